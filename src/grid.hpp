@@ -1,0 +1,56 @@
+#pragma once
+// A uniform grid of cubic cells over a box: maps positions to cells. Shared by the
+// cell list (binning) and every neighbour sweep that reads it.
+#include "src/types.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace dvisph {
+
+template <int D>
+struct Grid {
+  Real lo[D];
+  Real inv_cell;
+  Real cell;
+  int ncell[D];
+
+  Grid() = default;
+  Grid(const Vec<D>& box_lo, const Vec<D>& box_hi, Real cell_size) : cell(cell_size) {
+    if (!(cell_size > 0)) throw std::invalid_argument("Grid: cell size must be > 0");
+    inv_cell = 1.0 / cell_size;
+    long total = 1;
+    for (int k = 0; k < D; ++k) {
+      if (!(box_hi[k] > box_lo[k]))
+        throw std::invalid_argument("Grid: empty box along axis " + std::to_string(k));
+      lo[k] = box_lo[k];
+      ncell[k] = std::max(1, static_cast<int>(std::ceil((box_hi[k] - box_lo[k]) * inv_cell)));
+      total *= ncell[k];
+    }
+    if (total > (1L << 30)) throw std::invalid_argument("Grid: more than 2^30 cells");
+  }
+
+  int size() const {
+    int s = 1;
+    for (int k = 0; k < D; ++k) s *= ncell[k];
+    return s;
+  }
+
+  // Integer cell coordinate along axis k, not clamped (may lie outside the grid).
+  KOKKOS_INLINE_FUNCTION int coord(Real xk, int k) const {
+    return static_cast<int>(math::floor((xk - lo[k]) * inv_cell));
+  }
+  KOKKOS_INLINE_FUNCTION int clamp(int c, int k) const {
+    return c < 0 ? 0 : (c >= ncell[k] ? ncell[k] - 1 : c);
+  }
+  // Flat index of the cell holding x; positions outside the box go to the nearest cell.
+  template <class X>
+  KOKKOS_INLINE_FUNCTION int cell_of(const X& x) const {
+    int index = 0;
+    for (int k = D - 1; k >= 0; --k) index = index * ncell[k] + clamp(coord(x[k], k), k);
+    return index;
+  }
+};
+
+}  // namespace dvisph

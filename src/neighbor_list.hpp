@@ -1,0 +1,86 @@
+#pragma once
+// A stored neighbour list (CSR), built once from a CellSweep and then swept many
+// times in one step (e.g. by the CG iterations). Same for_each interface as
+// CellSweep, same pair order, so the two are interchangeable in every kernel.
+#include "src/neighbor_sweep.hpp"
+
+namespace dvisph {
+
+template <int D, class Space>
+class NeighborList {
+ public:
+  using memory_space = typename Space::memory_space;
+
+  // Lists, for each of the n query points xq(i), the targets of `sweep`.
+  template <class XView>
+  void build(const CellSweep<D, Space>& sweep, const XView& xq, int n) {
+    if (static_cast<int>(offsets_.extent(0)) < n + 1)
+      offsets_ = Kokkos::View<int*, memory_space>("dvisph::neighbor_list::offsets", n + 1);
+    auto offsets = offsets_;
+    Kokkos::parallel_for(
+        "dvisph::neighbor_list::count", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
+          int count = 0;
+          sweep.for_each(i, row<D>(xq, i), [&](int, const Vec<D>&, Real) { ++count; });
+          offsets(i + 1) = count;
+        });
+    int total = 0;
+    Kokkos::parallel_scan(
+        "dvisph::neighbor_list::prefix_sum", Kokkos::RangePolicy<Space>(0, n + 1),
+        KOKKOS_LAMBDA(int i, int& partial, bool final) {
+          partial += (i == 0 ? 0 : offsets(i));
+          if (final) offsets(i) = partial;
+        },
+        total);
+    if (static_cast<int>(neighbors_.extent(0)) < total)
+      neighbors_ = Kokkos::View<int*, memory_space>(
+          Kokkos::view_alloc(Kokkos::WithoutInitializing, "dvisph::neighbor_list::neighbors"),
+          total + total / 8);
+    auto neighbors = neighbors_;
+    Kokkos::parallel_for(
+        "dvisph::neighbor_list::fill", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
+          int a = offsets(i);
+          sweep.for_each(i, row<D>(xq, i), [&](int j, const Vec<D>&, Real) { neighbors(a++) = j; });
+        });
+    n_ = n;
+    pairs_ = total;
+    x_ = sweep.x;
+    radius2_ = sweep.radius2;
+  }
+
+  struct Sweep {
+    using execution_space = Space;
+    Kokkos::View<const int*, memory_space> offsets, neighbors;
+    Kokkos::View<const Real* [D], memory_space> x;
+    Real radius2;
+    // Positions may have moved since the build: distances are recomputed, and pairs
+    // that drifted beyond the radius are skipped (a list built with a skin stays valid).
+    template <class F>
+    KOKKOS_INLINE_FUNCTION void for_each(int i, const Vec<D>& xi, F&& f) const {
+      for (int a = offsets(i); a < offsets(i + 1); ++a) {
+        const int j = neighbors(a);
+        Vec<D> xij;
+        Real r2 = 0;
+        for (int k = 0; k < D; ++k) {
+          xij[k] = xi[k] - x(j, k);
+          r2 += xij[k] * xij[k];
+        }
+        if (r2 < radius2) f(j, xij, math::sqrt(r2));
+      }
+    }
+  };
+  // The sweep over stored pairs; `radius` may be smaller than the build radius.
+  Sweep sweep(Real radius) const { return Sweep{offsets_, neighbors_, x_, radius * radius}; }
+  Sweep sweep() const { return Sweep{offsets_, neighbors_, x_, radius2_}; }
+
+  long pairs() const { return pairs_; }
+  std::size_t bytes() const { return (offsets_.extent(0) + neighbors_.extent(0)) * sizeof(int); }
+
+ private:
+  int n_ = 0;
+  long pairs_ = 0;
+  Real radius2_ = 0;
+  Kokkos::View<int*, memory_space> offsets_, neighbors_;
+  Kokkos::View<const Real* [D], memory_space> x_;
+};
+
+}  // namespace dvisph

@@ -1,0 +1,61 @@
+#pragma once
+// The one neighbour-loop primitive. A sweep is a small device-copyable object whose
+// for_each(i, xi, f) calls f(j, xij, r) for every particle j of a target set with
+// |xi - xj| < radius, xij = xi - xj. The query point may belong to another set
+// (fluid-solid with a different radius): `i` is only used by stored lists.
+// Self pairs (j == i within one set) are visited; kernels give them zero gradient.
+#include "src/cell_list.hpp"
+
+namespace dvisph {
+
+template <int D, class Space>
+struct CellSweep {
+  using execution_space = Space;
+  using memory_space = typename Space::memory_space;
+  Grid<D> grid;
+  Kokkos::View<const int*, memory_space> offsets, particles;
+  Kokkos::View<const Real* [D], memory_space> x;  // positions of the target set
+  Real radius2;
+  int reach;  // cells to scan on each side
+
+  CellSweep() = default;
+  template <class XView>
+  CellSweep(const CellList<D, Space>& cells, const XView& target_x, Real radius)
+      : grid(cells.grid()),
+        offsets(cells.offsets()),
+        particles(cells.permutation()),
+        x(target_x),
+        radius2(radius * radius),
+        reach(static_cast<int>(std::ceil(radius / cells.grid().cell - 1e-12))) {}
+
+  template <class F>
+  KOKKOS_INLINE_FUNCTION void for_each(int /*i*/, const Vec<D>& xi, F&& f) const {
+    int lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    for (int k = 0; k < D; ++k) {
+      const int c = grid.coord(xi[k], k);
+      lo[k] = grid.clamp(c - reach, k);
+      hi[k] = grid.clamp(c + reach, k);
+      if (c + reach < 0 || c - reach >= grid.ncell[k]) return;  // far outside the grid
+    }
+    const int nx = grid.ncell[0];
+    const int ny = D > 1 ? grid.ncell[1] : 1;
+    for (int cz = lo[2]; cz <= hi[2]; ++cz)
+      for (int cy = lo[1]; cy <= hi[1]; ++cy) {
+        // cells lo[0]..hi[0] of a row are contiguous in the permutation
+        const int row = (cz * ny + cy) * nx;
+        const int end = offsets(row + hi[0] + 1);
+        for (int a = offsets(row + lo[0]); a < end; ++a) {
+          const int j = particles(a);
+          Vec<D> xij;
+          Real r2 = 0;
+          for (int k = 0; k < D; ++k) {
+            xij[k] = xi[k] - x(j, k);
+            r2 += xij[k] * xij[k];
+          }
+          if (r2 < radius2) f(j, xij, math::sqrt(r2));
+        }
+      }
+  }
+};
+
+}  // namespace dvisph

@@ -1,0 +1,80 @@
+#pragma once
+// Basic types shared by every part of dvisph: the floating-point type, a small
+// fixed-size vector for device code, and the particle kinds.
+#include <Kokkos_Core.hpp>
+
+#include <cstdint>
+
+namespace dvisph {
+
+using Real = double;
+
+// Kokkos 3.x keeps math functions in Kokkos::Experimental, 4.x in Kokkos; std:: works
+// on the host and, through Kokkos' wrappers, on devices for the few we need.
+namespace math {
+#if KOKKOS_VERSION >= 30700
+namespace kmath = ::Kokkos;
+#else
+namespace kmath = ::Kokkos::Experimental;
+#endif
+KOKKOS_INLINE_FUNCTION Real sqrt(Real x) { return kmath::sqrt(x); }
+KOKKOS_INLINE_FUNCTION Real floor(Real x) { return kmath::floor(x); }
+KOKKOS_INLINE_FUNCTION Real log(Real x) { return kmath::log(x); }
+KOKKOS_INLINE_FUNCTION bool isfinite(Real x) { return kmath::isfinite(x); }
+KOKKOS_INLINE_FUNCTION Real abs(Real x) { return x < 0 ? -x : x; }
+KOKKOS_INLINE_FUNCTION Real min(Real a, Real b) { return a < b ? a : b; }
+KOKKOS_INLINE_FUNCTION Real max(Real a, Real b) { return a > b ? a : b; }
+constexpr Real pi = 3.14159265358979323846;
+}  // namespace math
+
+// A D-component vector for use inside kernels (registers, not memory).
+template <int D>
+struct Vec {
+  Real c[D];
+  KOKKOS_INLINE_FUNCTION Real& operator[](int k) { return c[k]; }
+  KOKKOS_INLINE_FUNCTION const Real& operator[](int k) const { return c[k]; }
+  KOKKOS_INLINE_FUNCTION static Vec zero() {
+    Vec v{};
+    for (int k = 0; k < D; ++k) v.c[k] = 0;
+    return v;
+  }
+};
+
+template <int D>
+KOKKOS_INLINE_FUNCTION Vec<D> operator+(Vec<D> a, const Vec<D>& b) {
+  for (int k = 0; k < D; ++k) a[k] += b[k];
+  return a;
+}
+template <int D>
+KOKKOS_INLINE_FUNCTION Vec<D> operator-(Vec<D> a, const Vec<D>& b) {
+  for (int k = 0; k < D; ++k) a[k] -= b[k];
+  return a;
+}
+template <int D>
+KOKKOS_INLINE_FUNCTION Vec<D> operator*(Real s, Vec<D> a) {
+  for (int k = 0; k < D; ++k) a[k] *= s;
+  return a;
+}
+template <int D>
+KOKKOS_INLINE_FUNCTION Vec<D>& operator+=(Vec<D>& a, const Vec<D>& b) {
+  for (int k = 0; k < D; ++k) a[k] += b[k];
+  return a;
+}
+template <int D>
+KOKKOS_INLINE_FUNCTION Real dot(const Vec<D>& a, const Vec<D>& b) {
+  Real s = 0;
+  for (int k = 0; k < D; ++k) s += a[k] * b[k];
+  return s;
+}
+
+// Row i of an (n x D) view as a Vec.
+template <int D, class View>
+KOKKOS_INLINE_FUNCTION Vec<D> row(const View& v, int i) {
+  Vec<D> r;
+  for (int k = 0; k < D; ++k) r[k] = v(i, k);
+  return r;
+}
+
+enum class Kind : std::uint8_t { fluid = 0, wall = 1, solid = 2 };
+
+}  // namespace dvisph

@@ -1,0 +1,132 @@
+// Neighbour search: the cell sweep and the stored list find exactly the brute-force
+// pair set, in 2D and 3D, in a non-cubic box, with particles on cell faces, and for a
+// query set with a radius other than the cell size.
+#include "src/neighbor_list.hpp"
+#include "tests/test_space.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <random>
+#include <set>
+#include <utility>
+#include <vector>
+
+using namespace dvisph;
+using Mem = typename TestSpace::memory_space;
+
+namespace {
+
+template <int D>
+std::vector<Vec<D>> random_points(int n, const Vec<D>& hi, Real cell, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<Real> u(0, 1);
+  std::vector<Vec<D>> p(n);
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < D; ++k) {
+      p[i][k] = u(rng) * hi[k];
+      if (i % 5 == 0 && k == i % D) p[i][k] = cell * std::floor(p[i][k] / cell);  // on a face
+    }
+  return p;
+}
+
+template <int D>
+Kokkos::View<Real* [D], Mem> to_view(const std::vector<Vec<D>>& p) {
+  Kokkos::View<Real* [D], Mem> x("x", p.size());
+  auto h = Kokkos::create_mirror_view(x);
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (int k = 0; k < D; ++k) h(i, k) = p[i][k];
+  Kokkos::deep_copy(x, h);
+  return x;
+}
+
+template <int D>
+std::set<std::pair<int, int>> brute_force(const std::vector<Vec<D>>& q,
+                                          const std::vector<Vec<D>>& t, Real radius) {
+  std::set<std::pair<int, int>> pairs;
+  for (std::size_t i = 0; i < q.size(); ++i)
+    for (std::size_t j = 0; j < t.size(); ++j) {
+      const Vec<D> d = q[i] - t[j];
+      if (dot(d, d) < radius * radius) pairs.emplace(i, j);
+    }
+  return pairs;
+}
+
+// Pairs found by a sweep, gathered through a CSR list built from it.
+template <int D, class Sweep, class XView>
+std::set<std::pair<int, int>> swept_pairs(const Sweep& sweep, const XView& xq, int n) {
+  Kokkos::View<int*, Mem> count("count", n);
+  Kokkos::parallel_for(
+      Kokkos::RangePolicy<TestSpace>(0, n), KOKKOS_LAMBDA(int i) {
+        int c = 0;
+        sweep.for_each(i, row<D>(xq, i), [&](int, const Vec<D>&, Real) { ++c; });
+        count(i) = c;
+      });
+  auto hc = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), count);
+  std::vector<int> off(n + 1, 0);
+  for (int i = 0; i < n; ++i) off[i + 1] = off[i] + hc(i);
+  Kokkos::View<int*, Mem> offsets("offsets", n + 1), js("js", off[n] + 1);
+  Kokkos::deep_copy(offsets, Kokkos::View<int*, Kokkos::HostSpace>(off.data(), n + 1));
+  Kokkos::parallel_for(
+      Kokkos::RangePolicy<TestSpace>(0, n), KOKKOS_LAMBDA(int i) {
+        int a = offsets(i);
+        sweep.for_each(i, row<D>(xq, i), [&](int j, const Vec<D>&, Real) { js(a++) = j; });
+      });
+  auto hj = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), js);
+  std::set<std::pair<int, int>> pairs;
+  for (int i = 0; i < n; ++i)
+    for (int a = off[i]; a < off[i + 1]; ++a) {
+      const bool inserted = pairs.emplace(i, hj(a)).second;
+      REQUIRE(inserted);  // no pair visited twice
+    }
+  return pairs;
+}
+
+template <int D>
+void check_search(Real query_radius_factor) {
+  const Real cell = 0.1;
+  Vec<D> lo, hi;
+  for (int k = 0; k < D; ++k) {
+    lo[k] = 0;
+    hi[k] = (k == 0 ? 1.0 : (k == 1 ? 0.53 : 0.37));  // non-cubic, not a multiple of the cell
+  }
+  const int n = D == 2 ? 1500 : 3000;
+  const auto targets = random_points<D>(n, hi, cell, 7);
+  const auto queries = random_points<D>(n / 3, hi, cell, 11);
+  const Real radius = cell * query_radius_factor;
+
+  const auto xt = to_view<D>(targets);
+  const auto xq = to_view<D>(queries);
+  CellList<D, TestSpace> cells(Grid<D>(lo, hi, cell));
+  cells.build(xt, n);
+
+  // the permutation holds every particle once
+  auto perm = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), cells.permutation());
+  std::set<int> seen(perm.data(), perm.data() + n);
+  REQUIRE(static_cast<int>(seen.size()) == n);
+
+  const CellSweep<D, TestSpace> sweep(cells, xt, radius);
+  // same set
+  const auto expected_self = brute_force<D>(targets, targets, radius);
+  CHECK(swept_pairs<D>(sweep, xt, n) == expected_self);
+  // another set
+  CHECK(swept_pairs<D>(sweep, xq, static_cast<int>(queries.size())) ==
+        brute_force<D>(queries, targets, radius));
+  // stored list
+  NeighborList<D, TestSpace> list;
+  list.build(sweep, xt, n);
+  CHECK(list.pairs() == static_cast<long>(expected_self.size()));
+  CHECK(swept_pairs<D>(list.sweep(), xt, n) == expected_self);
+}
+
+}  // namespace
+
+TEST_CASE("cell sweep finds the brute-force pairs, 2D", "[neighbors]") {
+  check_search<2>(1.0);
+  check_search<2>(0.61);  // radius smaller than the cell
+  check_search<2>(1.7);   // larger: two cells each side
+}
+
+TEST_CASE("cell sweep finds the brute-force pairs, 3D", "[neighbors]") {
+  check_search<3>(1.0);
+  check_search<3>(1.37);
+}
