@@ -1,0 +1,104 @@
+// Binning and one neighbour sweep (summation density), 2D and 3D, on the Serial and
+// OpenMP backends; also a sweep through a stored CSR list, to measure which wins for
+// loops repeated within one step. Writes JSON (one record per case) to argv[1].
+#include "benchmarks/timer.hpp"
+#include "kernels/cubic_spline.hpp"
+#include "kernels/summation_density.hpp"
+#include "src/backend.hpp"
+#include "src/lattice.hpp"
+#include "src/neighbor_list.hpp"
+#include "src/reorder.hpp"
+
+#include <fmt/core.h>
+#include <fmt/os.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+using namespace dvisph;
+
+namespace {
+
+struct Record {
+  std::string backend;
+  int threads, dim;
+  long n;
+  double bin_ns, sweep_ns, list_build_ns, list_sweep_ns, pairs_per_particle;
+};
+
+template <int D, class Space>
+Record run(long target_n) {
+  using Mem = typename Space::memory_space;
+  const Real dx = 1.0;
+  const int side = static_cast<int>(std::round(std::pow(double(target_n), 1.0 / D)));
+  Vec<D> lo, hi;
+  for (int k = 0; k < D; ++k) lo[k] = 0, hi[k] = side * dx;
+  // jittered lattice, then shuffled so binning and reordering have work to do
+  auto pts = lattice<D>(lo, hi, dx, 0.1 * dx, 42);
+  std::mt19937 rng(1);
+  std::shuffle(pts.begin(), pts.end(), rng);
+  const int n = static_cast<int>(pts.size());
+  Kokkos::View<Real* [D], Mem> x("x", n);
+  Kokkos::View<Real*, Mem> m("m", n), rho("rho", n);
+  copy_points<D>(pts, x);
+  Kokkos::deep_copy(m, 1.0);
+  const CubicSpline<D> kernel(1.3 * dx);
+
+  Vec<D> glo = lo, ghi = hi;
+  for (int k = 0; k < D; ++k) glo[k] -= dx, ghi[k] += dx;
+  CellList<D, Space> cells(Grid<D>(glo, ghi, kernel.radius()));
+  const auto bin = bench::time_it<Space>([&] { cells.build(x, n); }, 5);
+
+  // sweeps on particles sorted by cell, as the solver keeps them
+  Kokkos::View<Real* [D], Mem> xs("xs", n);
+  gather_rows<Space>(xs, x, cells.permutation());
+  cells.build(xs, n);
+  const CellSweep<D, Space> sweep(cells, xs, kernel.radius());
+  const auto cell_sweep =
+      bench::time_it<Space>([&] { summation_density<D>(sweep, kernel, xs, m, rho, n); }, 5);
+  NeighborList<D, Space> list;
+  const auto list_build = bench::time_it<Space>([&] { list.build(sweep, xs, n); }, 3);
+  const auto list_sweep = bench::time_it<Space>(
+      [&] { summation_density<D>(list.sweep(), kernel, xs, m, rho, n); }, 5);
+
+  const double ns = 1e9 / n;
+  return {Space::name(), Space().concurrency(), D, n, bin.median_s * ns,
+          cell_sweep.median_s * ns, list_build.median_s * ns, list_sweep.median_s * ns,
+          double(list.pairs()) / n};
+}
+
+template <class Space>
+void run_all(std::vector<Record>& out) {
+  for (long n : {100000L, 1000000L}) {
+    out.push_back(run<2, Space>(n));
+    out.push_back(run<3, Space>(n));
+    const auto& r = out.back();
+    fmt::print(stderr, "{} {}t {}D n={}: done\n", r.backend, r.threads, r.dim, r.n);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Kokkos::ScopeGuard kokkos(argc, argv);
+  const std::string path = argc > 1 ? argv[1] : "neighbor_search.json";
+  std::vector<Record> records;
+#ifdef KOKKOS_ENABLE_SERIAL
+  run_all<Kokkos::Serial>(records);
+#endif
+  run_all<Kokkos::DefaultExecutionSpace>(records);
+  auto out = fmt::output_file(path);
+  out.print("[\n");
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const auto& r = records[i];
+    out.print(
+        "  {{\"backend\": \"{}\", \"threads\": {}, \"dim\": {}, \"n\": {}, \"bin_ns_per_particle\": "
+        "{:.2f}, \"sweep_ns_per_particle\": {:.2f}, \"list_build_ns_per_particle\": {:.2f}, "
+        "\"list_sweep_ns_per_particle\": {:.2f}, \"pairs_per_particle\": {:.1f}}}{}\n",
+        r.backend, r.threads, r.dim, r.n, r.bin_ns, r.sweep_ns, r.list_build_ns, r.list_sweep_ns,
+        r.pairs_per_particle, i + 1 < records.size() ? "," : "");
+  }
+  out.print("]\n");
+  fmt::print("wrote {}\n", path);
+}
