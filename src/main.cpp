@@ -1,12 +1,87 @@
-#include "src/backend.hpp"
+// dvisph command line: run, check, schema.
+#include "kernels/cubic_spline.hpp"
+#include "kernels/wendland_c2.hpp"
+#include "src/run.hpp"
+#include "src/scene.hpp"
+#include "src/schema.hpp"
 
+#include <CLI/CLI.hpp>
 #include <Kokkos_Core.hpp>
 #include <fmt/core.h>
+#include <unistd.h>
+
+namespace {
+
+enum Exit { ok = 0, failure = 1, bad_input = 2, numerical = 3 };
+
+int dispatch(const dvisph::Scene& s, const dvisph::RunOptions& opt) {
+  using namespace dvisph;
+  const bool cubic = s.kernel == "cubic_spline";
+  if (s.dimension == 2)
+    return cubic ? run_scene<2, CubicSpline<2>>(s, opt) : run_scene<2, WendlandC2<2>>(s, opt);
+  return cubic ? run_scene<3, CubicSpline<3>>(s, opt) : run_scene<3, WendlandC2<3>>(s, opt);
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
-  Kokkos::ScopeGuard kokkos(argc, argv);
-  const auto info = dvisph::backend_info();
-  fmt::print("dvisph on {} ({} threads), Kokkos {}\n", info.backend, info.concurrency,
-             info.kokkos_version);
-  return 0;
+  CLI::App app{"dvisph: selective dual-velocity ISPH for solid-liquid flows"};
+  app.require_subcommand(1);
+  std::string scene_path, out_dir;
+  std::vector<std::string> overrides;
+  bool quiet = false;
+
+  auto* run = app.add_subcommand("run", "run a scene");
+  run->add_option("scene", scene_path, "scene file (YAML)")->required();
+  run->add_option("--out", out_dir, "output directory (default: out/<scene name>)");
+  run->add_option("--set", overrides, "override a scene key: key.path=value")->take_all();
+  run->add_flag("--quiet", quiet, "no progress line");
+  auto* check = app.add_subcommand("check", "validate a scene file and exit");
+  check->add_option("scene", scene_path, "scene file (YAML)")->required();
+  check->add_option("--set", overrides, "override a scene key: key.path=value")->take_all();
+  app.add_subcommand("schema", "print the scene reference (docs/scenes.md)");
+
+  // Kokkos options (--kokkos-...) are left for Kokkos
+  std::vector<std::string> kokkos_args{argv[0]}, own_args;
+  for (int i = 1; i < argc; ++i)
+    (std::string(argv[i]).rfind("--kokkos", 0) == 0 ? kokkos_args : own_args).push_back(argv[i]);
+  try {
+    std::reverse(own_args.begin(), own_args.end());
+    app.parse(own_args);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? ok : bad_input;
+  }
+
+  if (app.got_subcommand("schema")) {
+    fmt::print("{}", dvisph::schema_markdown());
+    return ok;
+  }
+  dvisph::Scene scene;
+  try {
+    scene = dvisph::load_scene(scene_path, overrides);
+  } catch (const dvisph::SceneError& e) {
+    fmt::print(stderr, "error: {}: {}\n", scene_path, e.what());
+    return bad_input;
+  }
+  if (app.got_subcommand("check")) {
+    fmt::print("{}: valid ({}D scene '{}')\n", scene_path, scene.dimension, scene.name);
+    return ok;
+  }
+
+  std::vector<char*> kargv;
+  for (auto& a : kokkos_args) kargv.push_back(a.data());
+  int kargc = static_cast<int>(kargv.size());
+  Kokkos::ScopeGuard kokkos(kargc, kargv.data());
+  dvisph::RunOptions opt{out_dir.empty() ? "out/" + scene.name : out_dir,
+                         !quiet && isatty(fileno(stderr))};
+  try {
+    return dispatch(scene, opt);
+  } catch (const dvisph::NumericalError& e) {
+    fmt::print(stderr, "\nnumerical failure: {}\n", e.what());
+    return numerical;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "\nerror: {}\n", e.what());
+    return failure;
+  }
 }

@@ -75,6 +75,8 @@ KOKKOS_INLINE_FUNCTION Vec<D> row(const View& v, int i) {
   return r;
 }
 
-enum class Kind : std::uint8_t { fluid = 0, wall = 1, solid = 2 };
+// What a particle is. A gate is a wall that a scene removes at a given time.
+enum class Kind : std::uint8_t { fluid = 0, wall = 1, gate = 2, solid = 3 };
+KOKKOS_INLINE_FUNCTION bool is_wall(Kind k) { return k == Kind::wall || k == Kind::gate; }
 
 }  // namespace dvisph

@@ -1,7 +1,7 @@
-// SPH operators with the default kernel (cubic spline, h = 1.3 dx): lattice errors,
+// SPH operators with the default kernel (Wendland C2, h = 1.5 dx): lattice errors,
 // the errors on jittered lattices (kept from getting worse), and the symmetry of the
 // Laplacian that the pressure Poisson solve relies on.
-#include "kernels/cubic_spline.hpp"
+#include "kernels/wendland_c2.hpp"
 #include "tests/operator_errors.hpp"
 #include "tests/test_space.hpp"
 
@@ -11,7 +11,7 @@ using namespace dvisph;
 using testing::operator_errors;
 
 namespace {
-constexpr Real default_h_over_dx = 1.3;
+constexpr Real default_h_over_dx = 1.5;  // the scene default (src/schema.cpp)
 
 void report(const char* what, const testing::OperatorErrors& e) {
   WARN(what << ": interior " << e.interior << " | gradient mean " << e.gradient.mean << " p95 "
@@ -22,8 +22,8 @@ void report(const char* what, const testing::OperatorErrors& e) {
 }  // namespace
 
 TEST_CASE("operators on a regular lattice", "[operators]") {
-  const auto e2 = operator_errors<TestSpace, CubicSpline<2>>(default_h_over_dx, 0);
-  const auto e3 = operator_errors<TestSpace, CubicSpline<3>>(default_h_over_dx, 0);
+  const auto e2 = operator_errors<TestSpace, WendlandC2<2>>(default_h_over_dx, 0);
+  const auto e3 = operator_errors<TestSpace, WendlandC2<3>>(default_h_over_dx, 0);
   report("2D lattice", e2);
   report("3D lattice", e3);
   for (const auto& e : {e2, e3}) {
@@ -44,15 +44,15 @@ TEST_CASE("operators on jittered lattices do not get worse", "[operators]") {
   };
   const Case cases[] = {
       //  gradient      divergence        Laplacian   (mean, p95 of relative error)
-      {2, 0.05, 0.342, 0.952, 0.0121, 0.0277, 0.383, 0.980},
-      {2, 0.10, 0.684, 1.865, 0.0184, 0.0450, 0.764, 1.980},
-      {3, 0.05, 0.259, 0.626, 0.0076, 0.0178, 0.151, 0.395},
-      {3, 0.10, 0.514, 1.251, 0.0119, 0.0295, 0.299, 0.793},
+      {2, 0.05, 0.280, 0.789, 0.0073, 0.0175, 0.313, 0.804},
+      {2, 0.10, 0.559, 1.567, 0.0143, 0.0344, 0.623, 1.638},
+      {3, 0.05, 0.191, 0.460, 0.0044, 0.0108, 0.111, 0.289},
+      {3, 0.10, 0.380, 0.923, 0.0087, 0.0218, 0.220, 0.585},
   };
   for (const auto& c : cases) {
     const auto e = c.dim == 2
-                       ? operator_errors<TestSpace, CubicSpline<2>>(default_h_over_dx, c.jitter)
-                       : operator_errors<TestSpace, CubicSpline<3>>(default_h_over_dx, c.jitter);
+                       ? operator_errors<TestSpace, WendlandC2<2>>(default_h_over_dx, c.jitter)
+                       : operator_errors<TestSpace, WendlandC2<3>>(default_h_over_dx, c.jitter);
     report(c.dim == 2 ? (c.jitter < 0.07 ? "2D jitter 0.05" : "2D jitter 0.10")
                       : (c.jitter < 0.07 ? "3D jitter 0.05" : "3D jitter 0.10"),
            e);
@@ -70,7 +70,7 @@ TEST_CASE("the Morris Laplacian is symmetric on disordered particles", "[operato
   using Mem = TestSpace::memory_space;
   constexpr int D = 2;
   const Real dx = 0.01;
-  const CubicSpline<D> kernel(default_h_over_dx * dx);
+  const WendlandC2<D> kernel(default_h_over_dx * dx);
   const auto pts = lattice<D>(Vec<D>{{0, 0}}, Vec<D>{{0.3, 0.2}}, dx, 0.1 * dx, 5);
   const int n = static_cast<int>(pts.size());
   Kokkos::View<Real* [D], Mem> x("x", n);

@@ -1,0 +1,347 @@
+#pragma once
+// DEM for the glass beads (method.md §3): spheres, plane walls, the linear spring-dashpot
+// law with Coulomb friction, gravity and an external force per bead held over a fluid
+// step. Velocity Verlet: half kick, drift, rebin, contact forces, half kick. Contacts are
+// found by the cell sweep of src/ over a cell list rebuilt every step (binning costs a
+// few per cent of a step, benchmarks/RESULTS_dem.md); contact forces are gathered per
+// bead, so each bead writes only its own force, torque and history row.
+#include "solvers/dem/contact_history.hpp"
+#include "solvers/dem/linear_spring_dashpot.hpp"
+#include "solvers/dem/plane_wall.hpp"
+#include "solvers/dem/spheres.hpp"
+#include "src/neighbor_sweep.hpp"
+#include "src/reorder.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+namespace dvisph::dem {
+
+template <int D>
+struct DemOptions {
+  Real safety = 1.0 / 25;  // DEM step as a fraction of the shortest binary contact time
+  bool rotation = true;    // false: angular velocities stay as they are (torques ignored)
+  int history_capacity = D == 3 ? 16 : 8;  // contacts per bead, walls included
+  // Contacts are searched this far (a fraction of the largest diameter) beyond touching:
+  // a contact acts from inside the kick interval before the beads touch. It bounds the
+  // speed: a bead may move at most skin/2 per step (checked).
+  Real skin = 0.05;
+};
+
+struct Energy {
+  Real kinetic = 0;    // translation and rotation
+  Real potential = 0;  // gravity, -m g.x
+  Real spring = 0;     // normal and tangential springs of the contacts
+  Real total() const { return kinetic + potential + spring; }
+};
+
+template <int D, class Space>
+class DemSolver {
+ public:
+  using memory_space = typename Space::memory_space;
+  using Law = LinearSpringDashpot<D>;
+  static constexpr int R = rot_dim<D>;
+
+  // The box bounds the cell list: beads must stay inside it (checked).
+  DemSolver(const Spheres<D, Space>& spheres, std::vector<PlaneWall<D>> walls, const Law& law,
+            const Vec<D>& box_lo, const Vec<D>& box_hi, const Vec<D>& gravity,
+            DemOptions<D> options = {})
+      : spheres_(spheres),
+        walls_(std::move(walls)),
+        law_(law),
+        options_(options),
+        box_lo_(box_lo),
+        box_hi_(box_hi),
+        gravity_(gravity),
+        history_(spheres.n, options.history_capacity),
+        v_ahead_("dvisph::dem::v_ahead", spheres.n),
+        omega_ahead_("dvisph::dem::omega_ahead", spheres.n),
+        status_("dvisph::dem::status") {
+    const int n = spheres_.n;
+    if (n < 1) throw std::invalid_argument("DemSolver: no spheres");
+    Real r_max = 0, m_min = 0;
+    const auto r = spheres_.radius;
+    const auto m = spheres_.mass;
+    Kokkos::parallel_reduce(
+        "dvisph::dem::largest_radius", Kokkos::RangePolicy<Space>(0, n),
+        KOKKOS_LAMBDA(int i, Real& v) { v = math::max(v, r(i)); }, Kokkos::Max<Real>(r_max));
+    Kokkos::parallel_reduce(
+        "dvisph::dem::smallest_mass", Kokkos::RangePolicy<Space>(0, n),
+        KOKKOS_LAMBDA(int i, Real& v) { v = math::min(v, m(i)); }, Kokkos::Min<Real>(m_min));
+    if (!(r_max > 0 && m_min > 0))
+      throw std::invalid_argument("DemSolver: radius and mass must be > 0");
+    skin_ = options_.skin * 2 * r_max;
+    search_radius_ = 2 * r_max + skin_;
+    cells_ = CellList<D, Space>(Grid<D>(box_lo, box_hi, search_radius_));
+    cells_.build(spheres_.x, n);
+    // the lightest pair collides fastest
+    dt_ = options_.safety * law_.contact_time(0.5 * m_min);
+    walls_d_ = Kokkos::View<PlaneWall<D>*, memory_space>(
+        Kokkos::view_alloc(Kokkos::WithoutInitializing, "dvisph::dem::walls"), walls_.size());
+    upload_walls();
+  }
+
+  Spheres<D, Space>& spheres() { return spheres_; }
+  const std::vector<PlaneWall<D>>& walls() const { return walls_; }
+  const Law& law() const { return law_; }
+  Real time() const { return time_; }
+  Real time_step() const { return dt_; }  // safety * contact time
+
+  void set_wall_active(int w, bool active) {
+    walls_.at(w).active = active;
+    upload_walls();
+  }
+
+  // Advances by a fluid step in DEM sub-steps of at most time_step(), f_ext held.
+  void advance(Real dt_fluid) {
+    const int sub = std::max(1, static_cast<int>(std::ceil(dt_fluid / dt_ - 1e-9)));
+    for (int s = 0; s < sub; ++s) step_unchecked(dt_fluid / sub);
+    check();
+  }
+  void step(Real dt) {
+    step_unchecked(dt);
+    check();
+  }
+
+  // Sorts the beads by cell for memory locality; the history follows by id.
+  void reorder() { permute(cells_.permutation()); }
+  // Bead perm(a) becomes bead a, every per-bead field in place (views stay valid).
+  template <class Perm>
+  void permute(const Perm& perm) {
+    spheres_.for_each_field([&](auto& field) {
+      using V = std::decay_t<decltype(field)>;
+      const V tmp(Kokkos::view_alloc(Kokkos::WithoutInitializing, field.label()), field.layout());
+      gather_rows<Space>(tmp, field, perm);
+      Kokkos::deep_copy(field, tmp);
+    });
+    history_.permute(perm);
+    cells_.build(spheres_.x, spheres_.n);
+  }
+
+  // Mean number of contacts per bead (walls included) at the last force evaluation.
+  Real contacts_per_bead() const {
+    const auto count = history_.current().count;
+    long total = 0;
+    Kokkos::parallel_reduce(
+        "dvisph::dem::count_contacts", Kokkos::RangePolicy<Space>(0, spheres_.n),
+        KOKKOS_LAMBDA(int i, long& s) { s += count(i); }, total);
+    return static_cast<Real>(total) / spheres_.n;
+  }
+
+  // Kinetic, gravitational and spring energy now (for diagnostics; f_ext's work is not
+  // tracked).
+  Energy energy() const {
+    const auto x = spheres_.x, v = spheres_.v, om = spheres_.omega;
+    const auto rad = spheres_.radius, m = spheres_.mass, I = spheres_.inertia;
+    const Vec<D> g = gravity_;
+    const Law law = law_;
+    const auto walls = walls_d_;
+    const int nw = static_cast<int>(walls_.size());
+    const CellSweep<D, Space> sweep(cells_, x, search_radius_);
+    const auto hist = history_.current();
+    const auto policy = Kokkos::RangePolicy<Space>(0, spheres_.n);
+    Energy e;
+    Kokkos::parallel_reduce(
+        "dvisph::dem::energy::kinetic", policy,
+        KOKKOS_LAMBDA(int i, Real& s) {
+          for (int k = 0; k < D; ++k) s += 0.5 * m(i) * v(i, k) * v(i, k);
+          for (int c = 0; c < R; ++c) s += 0.5 * I(i) * om(i, c) * om(i, c);
+        },
+        e.kinetic);
+    Kokkos::parallel_reduce(
+        "dvisph::dem::energy::potential", policy,
+        KOKKOS_LAMBDA(int i, Real& s) { s -= m(i) * dot(g, row<D>(x, i)); }, e.potential);
+    Kokkos::parallel_reduce(
+        "dvisph::dem::energy::spring", policy,
+        KOKKOS_LAMBDA(int i, Real& s) {
+          const Vec<D> xi = row<D>(x, i);
+          const Vec<D> zero = Vec<D>::zero();
+          // a pair's energy is shared by its two beads
+          sweep.for_each(i, xi, [&](int j, const Vec<D>&, Real r) {
+            if (j != i) s += 0.5 * law.energy(rad(i) + rad(j) - r, zero);
+          });
+          for (int w = 0; w < nw; ++w)
+            if (walls(w).active) s += law.energy(rad(i) - walls(w).distance(xi), zero);
+          for (int a = 0; a < hist.count(i); ++a)
+            s += (hist.partner(i, a) < 0 ? 1.0 : 0.5) * law.energy(0, hist.slot(i, a));
+        },
+        e.spring);
+    return e;
+  }
+
+  // The stages of a step (public only because CUDA takes device lambdas in public
+  // member functions alone).
+
+  // v += dt/2 a, x += dt v; and the predicted velocity over the next drift, v + dt a,
+  // that the contact law needs to place each contact's start and end in the step.
+  void kick_drift(Real dt) {
+    const auto x = spheres_.x, v = spheres_.v, om = spheres_.omega;
+    const auto f = spheres_.force, fext = spheres_.f_ext, t = spheres_.torque;
+    const auto m = spheres_.mass, I = spheres_.inertia;
+    const auto va = v_ahead_, wa = omega_ahead_;
+    const auto status = status_;
+    const Vec<D> g = gravity_, lo = box_lo_, hi = box_hi_;
+    const bool rotation = options_.rotation;
+    const Real max_move2 = 0.25 * skin_ * skin_;
+    Kokkos::parallel_for(
+        "dvisph::dem::kick_drift", Kokkos::RangePolicy<Space>(0, spheres_.n), KOKKOS_LAMBDA(int i) {
+          Real move2 = 0;
+          bool outside = false;
+          for (int k = 0; k < D; ++k) {
+            const Real a = (f(i, k) + fext(i, k)) / m(i) + g[k];
+            v(i, k) += 0.5 * dt * a;
+            x(i, k) += dt * v(i, k);
+            va(i, k) = v(i, k) + dt * a;
+            move2 += dt * dt * v(i, k) * v(i, k);
+            outside = outside || !(x(i, k) >= lo[k] && x(i, k) <= hi[k]);
+          }
+          for (int c = 0; c < R; ++c) {
+            const Real alpha = rotation ? t(i, c) / I(i) : 0;
+            om(i, c) += 0.5 * dt * alpha;
+            wa(i, c) = om(i, c) + dt * alpha;
+          }
+          if (outside) Kokkos::atomic_increment(&status(0));
+          if (move2 > max_move2) Kokkos::atomic_increment(&status(1));
+        });
+  }
+
+  void kick(Real dt) {
+    const auto v = spheres_.v, om = spheres_.omega;
+    const auto f = spheres_.force, fext = spheres_.f_ext, t = spheres_.torque;
+    const auto m = spheres_.mass, I = spheres_.inertia;
+    const Vec<D> g = gravity_;
+    const bool rotation = options_.rotation;
+    Kokkos::parallel_for(
+        "dvisph::dem::kick", Kokkos::RangePolicy<Space>(0, spheres_.n), KOKKOS_LAMBDA(int i) {
+          for (int k = 0; k < D; ++k) v(i, k) += 0.5 * dt * ((f(i, k) + fext(i, k)) / m(i) + g[k]);
+          if (rotation)
+            for (int c = 0; c < R; ++c) om(i, c) += 0.5 * dt * t(i, c) / I(i);
+        });
+  }
+
+  // Contact force and torque on each bead at the current positions, with the half-step
+  // velocities in v and omega and the predicted ones in v_ahead_ and omega_ahead_;
+  // writes the history of the contacts alive now into the next table.
+  void contact_forces(Real dt) {
+    const auto x = spheres_.x, v = spheres_.v, om = spheres_.omega;
+    const auto va = v_ahead_, wa = omega_ahead_;
+    const auto rad = spheres_.radius, m = spheres_.mass;
+    const auto id = spheres_.id;
+    const auto f = spheres_.force, t = spheres_.torque;
+    const auto walls = walls_d_;
+    const int nw = static_cast<int>(walls_.size());
+    const Law law = law_;
+    const CellSweep<D, Space> sweep(cells_, x, search_radius_);
+    const auto old = history_.current();
+    const auto out = history_.writer();
+    Kokkos::parallel_for(
+        "dvisph::dem::contact_forces", Kokkos::RangePolicy<Space>(0, spheres_.n),
+        KOKKOS_LAMBDA(int i) {
+          const Vec<D> xi = row<D>(x, i), vi = row<D>(v, i), vai = row<D>(va, i);
+          const Rot<D> wi = row<R>(om, i), wai = row<R>(wa, i);
+          const Real ri = rad(i), mi = m(i);
+          Vec<D> fi = Vec<D>::zero();
+          Rot<D> ti = Rot<D>::zero();
+          int count = 0;
+          // A contact with partner p along the unit normal nrm (partner to bead i): dv is
+          // the velocity of i's centre relative to the partner's (before, after t) and
+          // spin = r_i w_i + r_p w_p, so the contact points move apart at dv - spin x nrm.
+          const auto touch = [&](int p, const Vec<D>& nrm, Real overlap, const Vec<D>& dv,
+                                 const Vec<D>& dva, const Rot<D>& spin, const Rot<D>& spina,
+                                 Real m_eff) {
+            const Overlaps d = Overlaps::along(overlap, dot(dv, nrm), dot(dva, nrm), dt);
+            if (!d.touching()) return;
+            const Contact<D> c{d, nrm, dv - cross(spin, nrm), dva - cross(spina, nrm), m_eff};
+            const ContactResponse<D> r = law(c, old.find(i, p), dt);
+            fi += r.force;
+            ti += (-ri) * cross(nrm, r.force);
+            out.add(i, count, p, r.xi);
+          };
+          sweep.for_each(i, xi, [&](int j, const Vec<D>& xij, Real r) {
+            if (j == i || r == 0) return;
+            const Real rj = rad(j);
+            Rot<D> spin, spina;
+            for (int c = 0; c < R; ++c) {
+              spin[c] = ri * wi[c] + rj * om(j, c);
+              spina[c] = ri * wai[c] + rj * wa(j, c);
+            }
+            touch(id(j), (1 / r) * xij, ri + rj - r, vi - row<D>(v, j), vai - row<D>(va, j), spin,
+                  spina, mi * m(j) / (mi + m(j)));
+          });
+          for (int w = 0; w < nw; ++w) {
+            const PlaneWall<D> wall = walls(w);
+            if (wall.active)
+              touch(-(w + 1), wall.normal, ri - wall.distance(xi), vi, vai, ri * wi, ri * wai, mi);
+          }
+          for (int k = 0; k < D; ++k) f(i, k) = fi[k];
+          for (int c = 0; c < R; ++c) t(i, c) = ti[c];
+          out.close(i, count);
+        });
+  }
+
+ private:
+  void step_unchecked(Real dt) {
+    bool changed = false;
+    for (auto& w : walls_)
+      if (w.active && time_ + 0.5 * dt > w.remove_at) {  // a gate opens
+        w.active = false;
+        changed = true;
+      }
+    if (changed) upload_walls();
+    if (!forces_ready_) {
+      // forces at the start, from the velocities now; the history is not advanced
+      Kokkos::deep_copy(v_ahead_, spheres_.v);
+      Kokkos::deep_copy(omega_ahead_, spheres_.omega);
+      contact_forces(dt);
+      forces_ready_ = true;
+    }
+    kick_drift(dt);
+    cells_.build(spheres_.x, spheres_.n);
+    contact_forces(dt);
+    history_.commit();
+    kick(dt);
+    time_ += dt;
+  }
+
+  void upload_walls() {
+    Kokkos::View<PlaneWall<D>*, Kokkos::HostSpace, Kokkos::MemoryUnmanaged> h(walls_.data(),
+                                                                              walls_.size());
+    Kokkos::deep_copy(walls_d_, h);
+  }
+
+  void check() const {
+    const auto status = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), status_);
+    if (const int lost = history_.overflows())
+      throw std::runtime_error("DemSolver: " + std::to_string(lost) +
+                               " contacts found no room in the contact history (capacity " +
+                               std::to_string(history_.capacity()) +
+                               " per bead): raise DemOptions::history_capacity");
+    if (status(0) > 0)
+      throw std::runtime_error("DemSolver: " + std::to_string(status(0)) + " beads left the box");
+    if (status(1) > 0)
+      throw std::runtime_error(
+          "DemSolver: beads moved more than half the search skin in a step, "
+          "contacts may be missed: lower the step or raise DemOptions::skin");
+  }
+
+  Spheres<D, Space> spheres_;
+  std::vector<PlaneWall<D>> walls_;
+  Kokkos::View<PlaneWall<D>*, memory_space> walls_d_;
+  Law law_;
+  DemOptions<D> options_;
+  Vec<D> box_lo_, box_hi_, gravity_;
+  CellList<D, Space> cells_;
+  ContactHistory<D, Space> history_;
+  Kokkos::View<Real* [D], memory_space> v_ahead_;
+  Kokkos::View<Real* [R], memory_space> omega_ahead_;
+  Kokkos::View<int[2], memory_space> status_;  // beads outside the box, too fast
+  Real skin_ = 0, search_radius_ = 0, dt_ = 0, time_ = 0;
+  bool forces_ready_ = false;
+};
+
+}  // namespace dvisph::dem

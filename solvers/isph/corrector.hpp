@@ -1,0 +1,91 @@
+#pragma once
+// Velocity correction v = v* - (dt/rho0) grad P with the symmetric gradient at the
+// reference density, grad P_i = V sum_j (P_i + P_j) grad W_ij (pair forces equal and
+// opposite). Column `physical` of P gives the velocity carried forward; column
+// `transport` the velocity that moves the particles (the same column when alpha =
+// beta; then vt may alias v).
+#include "solvers/isph/roles.hpp"
+
+namespace dvisph {
+
+template <int D, class Sweep, class Kernel, class X, class VStar, class P, class KindV, class RoleV,
+          class V>
+void corrector(const Sweep& sweep, const Kernel& kernel, const X& x, const VStar& vstar, const P& p,
+               const KindV& kind, const RoleV& role, Real rho0, Real volume, Real dt, int physical,
+               int transport, const V& v, const V& vt, int n) {
+  using Space = typename Sweep::execution_space;
+  Kokkos::parallel_for(
+      "dvisph::isph::corrector", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
+        if (kind(i) != Kind::fluid) return;
+        const Real pa = p(i, physical), pb = p(i, transport);
+        Vec<D> ga = Vec<D>::zero(), gb = Vec<D>::zero();
+        sweep.for_each(i, row<D>(x, i), [&](int j, const Vec<D>& xij, Real r) {
+          if (!in_stencil(role(j))) return;
+          const Vec<D> gw = kernel.grad(xij, r);
+          for (int k = 0; k < D; ++k) {
+            ga[k] += (pa + p(j, physical)) * gw[k];
+            gb[k] += (pb + p(j, transport)) * gw[k];
+          }
+        });
+        const Real s = dt * volume / rho0;
+        for (int k = 0; k < D; ++k) {
+          vt(i, k) = vstar(i, k) - s * gb[k];
+          v(i, k) = vstar(i, k) - s * ga[k];
+        }
+      });
+}
+
+// What the move found: the fastest particle, and the first particle (by index) that
+// left the domain or got a non-finite value (-1: none).
+struct MoveReport {
+  Real max_speed = 0;
+  int bad = -1;
+};
+
+// x += dt vt for fluid particles; reports the largest speed and any particle that
+// is not finite or outside [lo, hi]. (A functor with its own join: Kokkos 3.x has
+// no multiple-reducer parallel_reduce.)
+template <int D, class Space, class X, class V, class KindV>
+struct MoveParticles {
+  struct value_type {
+    Real max_speed2;
+    int first_bad;
+  };
+  X x;
+  V vt;
+  KindV kind;
+  Real dt;
+  Vec<D> lo, hi;
+  int n;
+
+  KOKKOS_INLINE_FUNCTION void init(value_type& r) const { r = {0, n}; }
+  KOKKOS_INLINE_FUNCTION void join(value_type& a, const value_type& b) const {
+    if (b.max_speed2 > a.max_speed2) a.max_speed2 = b.max_speed2;
+    if (b.first_bad < a.first_bad) a.first_bad = b.first_bad;
+  }
+  KOKKOS_INLINE_FUNCTION void join(volatile value_type& a, const volatile value_type& b) const {
+    if (b.max_speed2 > a.max_speed2) a.max_speed2 = b.max_speed2;
+    if (b.first_bad < a.first_bad) a.first_bad = b.first_bad;
+  }
+  KOKKOS_INLINE_FUNCTION void operator()(int i, value_type& r) const {
+    if (kind(i) != Kind::fluid) return;
+    Real v2 = 0;
+    bool ok = true;
+    for (int k = 0; k < D; ++k) {
+      x(i, k) += dt * vt(i, k);
+      v2 += vt(i, k) * vt(i, k);
+      ok = ok && math::isfinite(x(i, k)) && x(i, k) >= lo[k] && x(i, k) <= hi[k];
+    }
+    ok = ok && math::isfinite(v2);
+    if (v2 > r.max_speed2) r.max_speed2 = v2;
+    if (!ok && i < r.first_bad) r.first_bad = i;
+  }
+
+  MoveReport run() const {
+    value_type r;
+    Kokkos::parallel_reduce("dvisph::isph::move", Kokkos::RangePolicy<Space>(0, n), *this, r);
+    return {std::sqrt(r.max_speed2), r.first_bad < n ? r.first_bad : -1};
+  }
+};
+
+}  // namespace dvisph

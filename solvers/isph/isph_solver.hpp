@@ -1,0 +1,303 @@
+#pragma once
+// Stabilized ISPH for clear water (method.md §4 with eps = 1, C_r = 1). The solver
+// owns the particles and the step; the step is a list of stages assembled from the
+// scene, so a stage a scene does not need (viscosity, gate, a second pressure
+// solve) is neither allocated nor run.
+#include "kernels/summation_density.hpp"
+#include "solvers/isph/corrector.hpp"
+#include "solvers/isph/predictor.hpp"
+#include "solvers/isph/pressure_poisson.hpp"
+#include "solvers/isph/roles.hpp"
+#include "solvers/pcg.hpp"
+#include "src/neighbor_list.hpp"
+#include "src/particles.hpp"
+#include "src/reorder.hpp"
+#include "src/scene_particles.hpp"
+
+#include <fmt/format.h>
+
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace dvisph {
+
+// A run that cannot go on: NaN, a particle out of the domain, CG not converged.
+struct NumericalError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct StepInfo {
+  long step = 0;
+  double t = 0, dt = 0;
+  int cg_iterations = 0;
+  double cg_residual = 0;
+  double max_speed = 0;
+};
+
+template <int D, class Kernel, class Space = Kokkos::DefaultExecutionSpace>
+class IsphSolver {
+ public:
+  using memory_space = typename Space::memory_space;
+  using Sweep = typename NeighborList<D, Space>::Sweep;
+  struct Stage {
+    std::string name;
+    std::function<void()> run;
+    double seconds = 0;
+  };
+
+  explicit IsphSolver(const Scene& s)
+      : scene_(s),
+        kernel_(s.h_over_dx * s.spacing),
+        volume_(std::pow(s.spacing, D)),
+        rho0_(s.density) {
+    const auto init = scene_particles<D>(s);
+    n_ = static_cast<int>(init.x.size());
+    domain_lo_ = init.domain_lo;
+    domain_hi_ = init.domain_hi;
+    for (int k = 0; k < D; ++k) g_[k] = s.gravity[k];
+    gamma_[0] = gamma_[1] = s.gamma;
+    nrhs_ = 1;  // alpha = beta: one solve
+
+    p_ = Particles<D, Space>(n_, "sph");
+    copy_points<D>(init.x, p_.x);
+    auto kind = Kokkos::create_mirror_view(p_.kind);
+    auto id = Kokkos::create_mirror_view(p_.id);
+    for (int i = 0; i < n_; ++i) kind(i) = init.kind[i], id(i) = i;
+    Kokkos::deep_copy(p_.kind, kind);
+    Kokkos::deep_copy(p_.id, id);
+    Kokkos::deep_copy(p_.m, rho0_ * volume_);
+    pressure_ = Kokkos::View<Real**, memory_space>("dvisph::sph::pressure", n_, nrhs_);
+    rho_ = Kokkos::View<Real*, memory_space>("dvisph::sph::rho", n_);
+    role_ = Kokkos::View<Role*, memory_space>("dvisph::sph::role", n_);
+    vstar_ = Kokkos::View<Real* [D], memory_space>("dvisph::sph::vstar", n_);
+    diag_ = Kokkos::View<Real*, memory_space>("dvisph::sph::diag", n_);
+    rhs_ = Kokkos::View<Real**, memory_space>("dvisph::sph::rhs", n_, nrhs_);
+    kind_scratch_ = Kokkos::View<Kind*, memory_space>("dvisph::sph::kind_scratch", n_);
+    id_scratch_ = Kokkos::View<int*, memory_space>("dvisph::sph::id_scratch", n_);
+    cells_ = CellList<D, Space>(Grid<D>(domain_lo_, domain_hi_, kernel_.radius()));
+    surface_test_ = lattice_reference();
+    count_kinds();
+    build_stages();
+    info_.dt = next_dt(0);
+  }
+
+  // One time step of method.md §4: the stages in order.
+  const StepInfo& step() {
+    for (auto& stage : stages_) {
+      Kokkos::Profiling::pushRegion("dvisph::isph::" + stage.name);
+      Kokkos::Timer timer;
+      stage.run();
+      Space().fence();
+      stage.seconds += timer.seconds();
+      Kokkos::Profiling::popRegion();
+    }
+    info_.t += info_.dt;
+    ++info_.step;
+    info_.dt = next_dt(info_.max_speed);
+    return info_;
+  }
+
+  const StepInfo& info() const { return info_; }
+  const std::vector<Stage>& stages() const { return stages_; }
+  int size() const { return n_; }
+  int count(Kind k) const { return counts_[static_cast<int>(k)]; }
+  const Particles<D, Space>& particles() const { return p_; }
+  Kokkos::View<const Real**, memory_space> pressure() const { return pressure_; }
+  Kokkos::View<const Real*, memory_space> density() const { return rho_; }
+  Kokkos::View<const Role*, memory_space> roles() const { return role_; }
+  Real reference_density() const { return rho_ref_; }
+  long pairs() const { return list_.pairs(); }
+  const Kernel& kernel() const { return kernel_; }
+  const Scene& scene() const { return scene_; }
+
+ private:
+  void build_stages() {
+    const bool reorder = scene_.reorder_every > 0;
+    if (scene_.gate) stages_.push_back({"gate", [this] { remove_gate_when_due(); }});
+    if (reorder) stages_.push_back({"reorder", [this] { reorder_when_due(); }});
+    stages_.push_back({"neighbors", [this] { find_neighbors(); }});
+    stages_.push_back({"density_and_roles", [this] {
+                         density_and_roles<D>(list_.sweep(), kernel_, p_.x, p_.m, p_.kind, pressure_,
+                                              volume_, surface_test_, rho_, role_, n_);
+                       }});
+    stages_.push_back({scene_.viscosity > 0 ? "predictor_viscous" : "predictor", [this] {
+                         predictor<D>(list_.sweep(), kernel_, p_.x, p_.v, p_.kind, g_,
+                                      scene_.viscosity, scene_.no_slip, volume_, info_.dt, vstar_, n_);
+                       }});
+    stages_.push_back({"pressure_poisson", [this] { solve_pressure(); }});
+    stages_.push_back({"corrector", [this] {
+                         corrector<D>(list_.sweep(), kernel_, p_.x, vstar_, pressure_, p_.kind, role_,
+                                      rho0_, volume_, info_.dt, 0, nrhs_ - 1, p_.v, p_.v, n_);
+                       }});
+    stages_.push_back({"move", [this] { move(); }});
+  }
+
+  void find_neighbors() {
+    cells_.build(p_.x, n_);
+    list_.build(CellSweep<D, Space>(cells_, p_.x, kernel_.radius()), p_.x, n_);
+  }
+
+  void solve_pressure() {
+    const PressurePoisson<D, Sweep, Kernel, decltype(p_.x), decltype(role_)> ppe{
+        list_.sweep(), kernel_, p_.x, role_, volume_, full_diagonal_};
+    ppe.assemble(vstar_, rho_, rho0_, rho_ref_, g_, info_.dt, gamma_, diag_, rhs_, n_);
+    // warm start: last step's pressure, zero on Dirichlet and excluded rows
+    auto p = pressure_;
+    auto role = role_;
+    const int K = nrhs_;
+    Kokkos::parallel_for(
+        "dvisph::isph::warm_start", Kokkos::RangePolicy<Space>(0, n_), KOKKOS_LAMBDA(int i) {
+          if (!unknown(role(i)))
+            for (int k = 0; k < K; ++k) p(i, k) = 0;
+        });
+    const auto result = cg_.solve([&](const auto& x, const auto& y) { ppe.apply(x, y, diag_, n_); },
+                                  diag_, rhs_, pressure_, n_, scene_.cg_tolerance,
+                                  scene_.cg_max_iterations);
+    info_.cg_iterations = result.iterations;
+    info_.cg_residual = result.residual[0];
+    if (!result.converged)
+      throw NumericalError(fmt::format(
+          "step {}, t = {:.6g} s: pressure solve not converged after {} CG iterations "
+          "(relative residual {:.3g} > numerics.cg_tolerance = {:.3g})",
+          info_.step, info_.t, result.iterations, result.residual[0], scene_.cg_tolerance));
+  }
+
+  void move() {
+    const MoveParticles<D, Space, decltype(p_.x), decltype(p_.v), decltype(p_.kind)> mover{
+        p_.x, p_.v, p_.kind, info_.dt, domain_lo_, domain_hi_, n_};
+    const auto report = mover.run();
+    info_.max_speed = report.max_speed;
+    if (report.bad >= 0) {
+      auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(),
+                                                   Kokkos::subview(p_.x, report.bad, Kokkos::ALL));
+      auto id = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(),
+                                                    Kokkos::subview(p_.id, report.bad));
+      std::string pos;
+      for (int k = 0; k < D; ++k) pos += fmt::format("{}{:.6g}", k ? ", " : "", x(k));
+      throw NumericalError(fmt::format(
+          "step {}, t = {:.6g} s: fluid particle {} at ({}) m is not finite or has left the "
+          "domain", info_.step, info_.t, id(), pos));
+    }
+  }
+
+  double next_dt(double max_speed) const {
+    const double h = kernel_.h;
+    double gnorm = 0;
+    for (int k = 0; k < D; ++k) gnorm += g_[k] * g_[k];
+    double dt = scene_.dt_max;
+    if (max_speed > 0) dt = std::min(dt, scene_.cfl * h / max_speed);
+    if (gnorm > 0) dt = std::min(dt, 0.25 * std::sqrt(h / std::sqrt(gnorm)));
+    if (scene_.viscosity > 0) dt = std::min(dt, 0.125 * h * h / scene_.viscosity);
+    if (scene_.gate && info_.t < scene_.gate->remove_at)
+      dt = std::min(dt, std::max(scene_.gate->remove_at - info_.t, 1e-12));
+    return dt;
+  }
+
+  // Reorders every persistent field by `perm` (its first n_new entries), using the
+  // step's scratch fields as buffers (they are recomputed before use).
+  void permute(const Kokkos::View<int*, memory_space>& perm, int n_new) {
+    const auto keep = Kokkos::subview(perm, Kokkos::make_pair(0, n_new));
+    gather_rows<Space>(vstar_, p_.x, keep);
+    std::swap(p_.x, vstar_);
+    gather_rows<Space>(vstar_, p_.v, keep);
+    std::swap(p_.v, vstar_);
+    gather_rows<Space>(rho_, p_.m, keep);
+    std::swap(p_.m, rho_);
+    gather_rows<Space>(rhs_, pressure_, keep);
+    std::swap(pressure_, rhs_);
+    gather_rows<Space>(kind_scratch_, p_.kind, keep);
+    std::swap(p_.kind, kind_scratch_);
+    gather_rows<Space>(id_scratch_, p_.id, keep);
+    std::swap(p_.id, id_scratch_);
+    n_ = p_.n = n_new;
+  }
+
+  void reorder_when_due() {
+    if (info_.step % scene_.reorder_every != 0) return;
+    cells_.build(p_.x, n_);
+    permute(cells_.permutation(), n_);
+  }
+
+  void remove_gate_when_due() {
+    if (gate_removed_ || info_.t < scene_.gate->remove_at) return;
+    // keep every particle that is not the gate, in order
+    Kokkos::View<int*, memory_space> keep("dvisph::isph::gate_keep", n_);
+    auto kind = p_.kind;
+    int kept = 0;
+    Kokkos::parallel_scan(
+        "dvisph::isph::remove_gate", Kokkos::RangePolicy<Space>(0, n_),
+        KOKKOS_LAMBDA(int i, int& offset, bool final) {
+          if (kind(i) == Kind::gate) return;
+          if (final) keep(offset) = i;
+          ++offset;
+        },
+        kept);
+    permute(keep, kept);
+    gate_removed_ = true;
+    count_kinds();
+  }
+
+  // <rho> and div r of an interior particle of the initial lattice: references for the
+  // density-invariance term, the density error and the free-surface test.
+  SurfaceTest<D> lattice_reference() {
+    const Real dx = scene_.spacing;
+    const int reach = static_cast<int>(std::ceil(kernel_.radius() / dx)) + 1;
+    Real sum = 0, div_r = 0;
+    full_diagonal_ = 0;
+    int c[3] = {0, 0, 0};
+    std::function<void(int)> loop = [&](int axis) {
+      if (axis == D) {
+        Real r2 = 0;
+        for (int k = 0; k < D; ++k) r2 += c[k] * dx * c[k] * dx;
+        const Real r = std::sqrt(r2);
+        sum += rho0_ * volume_ * kernel_.W(r);
+        div_r -= volume_ * kernel_.dW_over_r(r) * r2;
+        if (r > 0) full_diagonal_ -= laplacian_weight<D>(kernel_, r, volume_);
+        return;
+      }
+      for (c[axis] = -reach; c[axis] <= reach; ++c[axis]) loop(axis + 1);
+    };
+    loop(0);
+    rho_ref_ = sum;
+    const bool by_density = scene_.surface_criterion == "density";
+    return {by_density, scene_.surface_density_threshold, scene_.surface_divergence_threshold,
+            sum, div_r, rho0_, g_};
+  }
+
+  void count_kinds() {
+    counts_.assign(4, 0);
+    auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(),
+                                                    Kokkos::subview(p_.kind, Kokkos::make_pair(0, n_)));
+    for (int i = 0; i < n_; ++i) ++counts_[static_cast<int>(kind(i))];
+  }
+
+  Scene scene_;
+  Kernel kernel_;
+  Real volume_, rho0_, rho_ref_ = 0;
+  SurfaceTest<D> surface_test_;
+  Real full_diagonal_ = 0;
+  Vec<D> g_, domain_lo_, domain_hi_;
+  Real gamma_[max_rhs];
+  int nrhs_ = 1;
+  int n_ = 0;
+  bool gate_removed_ = false;
+  std::vector<int> counts_;
+
+  Particles<D, Space> p_;
+  Kokkos::View<Real**, memory_space> pressure_, rhs_;
+  Kokkos::View<Real*, memory_space> rho_, diag_;
+  Kokkos::View<Role*, memory_space> role_;
+  Kokkos::View<Real* [D], memory_space> vstar_;
+  Kokkos::View<Kind*, memory_space> kind_scratch_;
+  Kokkos::View<int*, memory_space> id_scratch_;
+
+  CellList<D, Space> cells_;
+  NeighborList<D, Space> list_;
+  ConjugateGradient<Space> cg_;
+  std::vector<Stage> stages_;
+  StepInfo info_;
+};
+
+}  // namespace dvisph

@@ -1,0 +1,91 @@
+#pragma once
+// The pressure Poisson equation (method.md eq. 5 with eps = 1, C_r = 1) as a
+// symmetric positive definite system A P = b over the unknown particles, A = -L
+// with L the Morris Laplacian (kernels/laplacian.hpp) on the stencil of fluid and
+// active wall particles; Dirichlet particles (P = 0) add only to the diagonal.
+//   fluid rows: b = -(rho0/dt) <div v*> - gamma rho0 (1 - <rho>/rho_ref) / dt^2
+//               (no gamma term on the free surface). Free surface, ghost-fluid
+//               style (Gibou et al. 2002): the part of a fluid particle's support
+//               that is empty is air at P = 0 half a spacing beyond the particles,
+//               i.e. twice the missing diagonal weight, so the surface layer gets
+//               the pressure of its depth and the symmetric gradient holds it up.
+//               No fluid particle is Dirichlet and no role flip changes the matrix
+//               abruptly.
+//   wall rows:  b = -L(P_h), P_h = rho0 g.x: the wall pressure continues the
+//               fluid's with the hydrostatic gradient (a Neumann condition) and the
+//               matrix stays symmetric.
+// Several right-hand sides differ only in gamma; they share every traversal.
+#include "kernels/laplacian.hpp"
+#include "solvers/isph/roles.hpp"
+#include "solvers/pcg.hpp"
+
+namespace dvisph {
+
+template <int D, class Sweep, class Kernel, class X, class RoleV>
+struct PressurePoisson {
+  using Space = typename Sweep::execution_space;
+  Sweep sweep;
+  Kernel kernel;
+  X x;
+  RoleV role;
+  Real volume;         // of every particle
+  Real full_diagonal;  // sum of |Laplacian weights| over a full lattice support
+
+  // diag(i) and b(i, k) for gamma[k], k < b.extent(1); zero on rows that are not unknowns.
+  template <class VStar, class Rho, class Diag, class B>
+  void assemble(const VStar& vstar, const Rho& rho, Real rho0, Real rho_ref, Vec<D> g, Real dt,
+                const Real (&gamma)[max_rhs], const Diag& diag, const B& b, int n) const {
+    const auto self = *this;
+    const int K = static_cast<int>(b.extent(1));
+    Real gam[max_rhs];
+    for (int k = 0; k < max_rhs; ++k) gam[k] = gamma[k];
+    Kokkos::parallel_for(
+        "dvisph::pressure_poisson::assemble", Kokkos::RangePolicy<Space>(0, n),
+        KOKKOS_LAMBDA(int i) {
+          const Role ri = self.role(i);
+          if (!unknown(ri)) {
+            diag(i) = 0;
+            for (int k = 0; k < K; ++k) b(i, k) = 0;
+            return;
+          }
+          const Vec<D> vi = row<D>(vstar, i);
+          Real d = 0, div = 0, wall_source = 0;
+          self.sweep.for_each(i, row<D>(self.x, i), [&](int j, const Vec<D>& xij, Real r) {
+            if (!in_stencil(self.role(j))) return;
+            const Real w = laplacian_weight<D>(self.kernel, r, self.volume);
+            d -= w;
+            div += self.volume * dot(row<D>(vstar, j) - vi, self.kernel.grad(xij, r));
+            wall_source += w * dot(g, xij);
+          });
+          const Real air = ri == Role::wall ? 0 : 2 * math::max(0, self.full_diagonal - d);
+          diag(i) = d + air;
+          for (int k = 0; k < K; ++k) {
+            if (ri == Role::wall) b(i, k) = -rho0 * wall_source;
+            else b(i, k) = -rho0 / dt * div -
+                           (ri == Role::fluid ? gam[k] * rho0 * (1 - rho(i) / rho_ref) / (dt * dt) : 0);
+          }
+        });
+  }
+
+  // q = A p for all columns.
+  template <class P, class Diag>
+  void apply(const P& p, const P& q, const Diag& diag, int n) const {
+    const auto self = *this;
+    const int K = static_cast<int>(p.extent(1));
+    Kokkos::parallel_for(
+        "dvisph::pressure_poisson::apply", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
+          Real sum[max_rhs] = {};
+          if (unknown(self.role(i))) {
+            self.sweep.for_each(i, row<D>(self.x, i), [&](int j, const Vec<D>&, Real r) {
+              if (!unknown(self.role(j)) || j == i) return;
+              const Real w = laplacian_weight<D>(self.kernel, r, self.volume);
+              for (int k = 0; k < K; ++k) sum[k] += w * p(j, k);
+            });
+            for (int k = 0; k < K; ++k) sum[k] += diag(i) * p(i, k);
+          }
+          for (int k = 0; k < K; ++k) q(i, k) = sum[k];
+        });
+  }
+};
+
+}  // namespace dvisph

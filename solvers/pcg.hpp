@@ -1,0 +1,152 @@
+#pragma once
+// Jacobi-preconditioned conjugate gradient for several right-hand sides with the
+// same symmetric positive definite matrix. The operator is applied matrix-free to
+// all columns at once, so the columns share every neighbour traversal; one
+// right-hand side is the special case K = 1. Each column has its own CG scalars
+// and stops on its own relative residual.
+#include "src/types.hpp"
+
+#include <cmath>
+#include <string>
+
+namespace dvisph {
+
+constexpr int max_rhs = 2;
+
+// N sums in one reduction (Kokkos 3.x has no multiple-reducer parallel_reduce and
+// joins through volatile references).
+template <int N>
+struct Sums {
+  Real v[N];
+  KOKKOS_INLINE_FUNCTION Sums() {
+    for (int k = 0; k < N; ++k) v[k] = 0;
+  }
+  KOKKOS_INLINE_FUNCTION Sums& operator+=(const Sums& o) {
+    for (int k = 0; k < N; ++k) v[k] += o.v[k];
+    return *this;
+  }
+  KOKKOS_INLINE_FUNCTION void operator+=(const volatile Sums& o) volatile {
+    for (int k = 0; k < N; ++k) v[k] += o.v[k];
+  }
+};
+using ColumnSums = Sums<max_rhs>;
+using TwoColumnSums = Sums<2 * max_rhs>;  // two sums per column
+
+struct CgResult {
+  int iterations = 0;
+  Real residual[max_rhs] = {};  // final relative residuals
+  bool converged = false;
+};
+
+template <class Space>
+class ConjugateGradient {
+ public:
+  using memory_space = typename Space::memory_space;
+  using Vectors = Kokkos::View<Real**, memory_space>;
+  using Diagonal = Kokkos::View<Real*, memory_space>;
+
+  void resize(int n, int k) {
+    if (static_cast<int>(r_.extent(0)) == n && static_cast<int>(r_.extent(1)) == k) return;
+    r_ = Vectors("dvisph::pcg::r", n, k);
+    z_ = Vectors("dvisph::pcg::z", n, k);
+    p_ = Vectors("dvisph::pcg::p", n, k);
+    q_ = Vectors("dvisph::pcg::q", n, k);
+  }
+
+  // Solves A x = b for every column of b (n x K, K <= max_rhs); x holds the initial
+  // guess. `apply(p, q)` computes q = A p; rows whose diag is zero are inactive
+  // (their x, b stay zero). Returns iterations and the relative residuals.
+  template <class Apply>
+  CgResult solve(const Apply& apply, const Diagonal& diag, const Vectors& b, const Vectors& x,
+                 int n, Real tolerance, int max_iterations) {
+    const int K = static_cast<int>(b.extent(1));
+    resize(static_cast<int>(b.extent(0)), K);
+    auto r = r_, z = z_, p = p_, q = q_;
+    const auto range = Kokkos::RangePolicy<Space>(0, n);
+
+    apply(x, q);
+    Sums<3 * max_rhs> init;  // r.z, b.b, r.r
+    Kokkos::parallel_reduce(
+        "dvisph::pcg::init", range,
+        KOKKOS_LAMBDA(int i, Sums<3 * max_rhs>& s) {
+          const Real inv_d = diag(i) > 0 ? 1 / diag(i) : 0;
+          for (int k = 0; k < K; ++k) {
+            r(i, k) = diag(i) > 0 ? b(i, k) - q(i, k) : 0;
+            z(i, k) = inv_d * r(i, k);
+            p(i, k) = z(i, k);
+            s.v[k] += r(i, k) * z(i, k);
+            s.v[max_rhs + k] += b(i, k) * b(i, k);
+            s.v[2 * max_rhs + k] += r(i, k) * r(i, k);
+          }
+        },
+        init);
+    ColumnSums rz, bb, rr;
+    for (int k = 0; k < K; ++k)
+      rz.v[k] = init.v[k], bb.v[k] = init.v[max_rhs + k], rr.v[k] = init.v[2 * max_rhs + k];
+
+    CgResult result;
+    Real norm_b[max_rhs], res[max_rhs];
+    bool active[max_rhs];
+    auto all_done = [&]() {
+      bool done = true;
+      for (int k = 0; k < K; ++k) {
+        norm_b[k] = std::sqrt(bb.v[k]);
+        res[k] = norm_b[k] > 0 ? std::sqrt(rr.v[k]) / norm_b[k] : std::sqrt(rr.v[k]);
+        active[k] = res[k] > tolerance;
+        done = done && !active[k];
+      }
+      return done;
+    };
+    bool done = all_done();
+    int it = 0;
+    for (; it < max_iterations && !done; ++it) {
+      apply(p, q);
+      ColumnSums pq;
+      Kokkos::parallel_reduce(
+          "dvisph::pcg::pq", range,
+          KOKKOS_LAMBDA(int i, ColumnSums& s) {
+            for (int k = 0; k < K; ++k) s.v[k] += p(i, k) * q(i, k);
+          },
+          pq);
+      ColumnSums alpha;
+      for (int k = 0; k < K; ++k) alpha.v[k] = active[k] && pq.v[k] > 0 ? rz.v[k] / pq.v[k] : 0;
+      TwoColumnSums update;  // new r.z, then r.r
+      Kokkos::parallel_reduce(
+          "dvisph::pcg::update", range,
+          KOKKOS_LAMBDA(int i, TwoColumnSums& s) {
+            const Real inv_d = diag(i) > 0 ? 1 / diag(i) : 0;
+            for (int k = 0; k < K; ++k) {
+              x(i, k) += alpha.v[k] * p(i, k);
+              r(i, k) -= alpha.v[k] * q(i, k);
+              z(i, k) = inv_d * r(i, k);
+              s.v[k] += r(i, k) * z(i, k);
+              s.v[max_rhs + k] += r(i, k) * r(i, k);
+            }
+          },
+          update);
+      ColumnSums rz_new;
+      for (int k = 0; k < K; ++k) rz_new.v[k] = update.v[k], rr.v[k] = update.v[max_rhs + k];
+      ColumnSums beta;
+      for (int k = 0; k < K; ++k) beta.v[k] = rz.v[k] > 0 ? rz_new.v[k] / rz.v[k] : 0;
+      rz = rz_new;
+      done = all_done();
+      if (done) {
+        ++it;
+        break;
+      }
+      Kokkos::parallel_for(
+          "dvisph::pcg::direction", range, KOKKOS_LAMBDA(int i) {
+            for (int k = 0; k < K; ++k) p(i, k) = z(i, k) + beta.v[k] * p(i, k);
+          });
+    }
+    result.iterations = it;
+    result.converged = done;
+    for (int k = 0; k < K; ++k) result.residual[k] = res[k];
+    return result;
+  }
+
+ private:
+  Vectors r_, z_, p_, q_;
+};
+
+}  // namespace dvisph

@@ -1,0 +1,83 @@
+#pragma once
+// Figures a run reports while it goes (series.csv) and at its end (summary.json).
+#include "solvers/isph/roles.hpp"
+
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace dvisph {
+
+// Largest first coordinate of a fluid particle: the surge front.
+template <class Space, class X, class KindV>
+Real front_position(const X& x, const KindV& kind, int n) {
+  Real front = -1e300;
+  Kokkos::parallel_reduce(
+      "dvisph::metrics::front", Kokkos::RangePolicy<Space>(0, n),
+      KOKKOS_LAMBDA(int i, Real& m) {
+        if (kind(i) == Kind::fluid && x(i, 0) > m) m = x(i, 0);
+      },
+      Kokkos::Max<Real>(front));
+  return front;
+}
+
+// Submerged: the paper's density error counts particles with P >= 100 Pa.
+constexpr Real submerged_pressure = 100;  // Pa
+
+// Largest |<rho> - rho_ref| / rho_ref over submerged fluid particles.
+template <class Space, class Rho, class P, class KindV>
+Real max_density_error(const Rho& rho, const P& p, const KindV& kind, Real rho_ref, int n) {
+  Real err = 0;
+  Kokkos::parallel_reduce(
+      "dvisph::metrics::density_error", Kokkos::RangePolicy<Space>(0, n),
+      KOKKOS_LAMBDA(int i, Real& m) {
+        if (kind(i) != Kind::fluid || p(i, 0) < submerged_pressure) return;
+        const Real e = math::abs(rho(i) - rho_ref) / rho_ref;
+        if (e > m) m = e;
+      },
+      Kokkos::Max<Real>(err));
+  return err;
+}
+
+// Martin & Moyce (1952) surge front, Z = z/a against T = t sqrt(2g/a).
+struct FrontData {
+  std::vector<double> T, Z;
+};
+inline FrontData martin_moyce() {
+  FrontData d;
+  std::ifstream in(std::string(DVISPH_SOURCE_DIR) + "/data/martin_moyce_1952.csv");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#' || line[0] == 'T') continue;
+    std::stringstream ss(line);
+    double t, z;
+    char comma;
+    if (ss >> t >> comma >> z) d.T.push_back(t), d.Z.push_back(z);
+  }
+  return d;
+}
+
+// RMS of (Z_sim - Z_data) / Z_data over data points with T in [t_lo, t_hi], the
+// simulated front interpolated linearly in T. Returns -1 if no point is covered.
+inline double front_rms_deviation(const FrontData& sim, const FrontData& data, double t_lo,
+                                  double t_hi, int* points = nullptr) {
+  double sum = 0;
+  int count = 0;
+  for (std::size_t k = 0; k < data.T.size(); ++k) {
+    const double T = data.T[k];
+    if (T < t_lo || T > t_hi) continue;
+    for (std::size_t s = 1; s < sim.T.size(); ++s)
+      if (sim.T[s - 1] <= T && T <= sim.T[s]) {
+        const double w = (T - sim.T[s - 1]) / (sim.T[s] - sim.T[s - 1]);
+        const double z = (1 - w) * sim.Z[s - 1] + w * sim.Z[s];
+        sum += (z - data.Z[k]) * (z - data.Z[k]) / (data.Z[k] * data.Z[k]);
+        ++count;
+        break;
+      }
+  }
+  if (points) *points = count;
+  return count ? std::sqrt(sum / count) : -1;
+}
+
+}  // namespace dvisph

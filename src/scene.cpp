@@ -1,0 +1,291 @@
+#include "src/scene.hpp"
+
+#include "src/schema.hpp"
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace dvisph {
+namespace {
+
+std::string join_names(const std::vector<Field>& fields) {
+  std::string s;
+  for (const auto& f : fields) s += (s.empty() ? "" : ", ") + f.name;
+  return s;
+}
+
+std::string show(const YAML::Node& n) {
+  YAML::Emitter e;
+  e << YAML::Flow << n;
+  return e.c_str();
+}
+
+double as_number(const YAML::Node& n, const std::string& path) {
+  double v;
+  if (!n.IsScalar() || !YAML::convert<double>::decode(n, v) || !std::isfinite(v))
+    throw SceneError(fmt::format("{}: '{}' is not a number", path, show(n)));
+  return v;
+}
+
+void check_range(const Field& f, double v, const std::string& path, const std::string& unit) {
+  const bool low = f.min_exclusive ? !(v > f.min) : !(v >= f.min);
+  if (low || v > f.max) {
+    std::string allowed;
+    if (f.min > -1e299) allowed += fmt::format("{} {:g}", f.min_exclusive ? ">" : ">=", f.min);
+    if (f.max < 1e299) allowed += fmt::format("{}<= {:g}", allowed.empty() ? "" : " and ", f.max);
+    throw SceneError(fmt::format("{} = {:g}{}: out of range, must be {}", path, v,
+                                 unit.empty() ? "" : " " + unit, allowed));
+  }
+}
+
+void validate(const Field& f, const YAML::Node& n, const std::string& path, int dim) {
+  switch (f.type) {
+    case FieldType::number: check_range(f, as_number(n, path), path, f.unit); break;
+    case FieldType::integer: {
+      const double v = as_number(n, path);
+      if (v != std::floor(v)) throw SceneError(fmt::format("{}: '{}' is not an integer", path, show(n)));
+      check_range(f, v, path, f.unit);
+      break;
+    }
+    case FieldType::boolean: {
+      bool b;
+      if (!n.IsScalar() || !YAML::convert<bool>::decode(n, b))
+        throw SceneError(fmt::format("{}: '{}' is not true or false", path, show(n)));
+      break;
+    }
+    case FieldType::choice: {
+      if (!n.IsScalar()) throw SceneError(fmt::format("{}: '{}' is not text", path, show(n)));
+      if (f.choices.empty()) break;
+      const auto v = n.as<std::string>();
+      for (const auto& c : f.choices)
+        if (c == v) return;
+      std::string allowed;
+      for (const auto& c : f.choices) allowed += (allowed.empty() ? "" : ", ") + c;
+      throw SceneError(fmt::format("{} = '{}': not one of {}", path, v, allowed));
+    }
+    case FieldType::vector: {
+      if (!n.IsSequence() || static_cast<int>(n.size()) != dim)
+        throw SceneError(fmt::format("{}: '{}' must be a list of {} numbers ({})", path, show(n),
+                                     dim, f.unit));
+      for (std::size_t k = 0; k < n.size(); ++k) as_number(n[k], fmt::format("{}[{}]", path, k));
+      break;
+    }
+    case FieldType::list: {
+      if (!n.IsSequence() || n.size() == 0)
+        throw SceneError(fmt::format("{}: must be a non-empty list of blocks", path));
+      Field item = f;
+      item.type = FieldType::map;
+      for (std::size_t k = 0; k < n.size(); ++k)
+        validate(item, n[k], fmt::format("{}[{}]", path, k), dim);
+      break;
+    }
+    case FieldType::map: {
+      const std::string where = path.empty() ? "the scene" : path;
+      if (!n.IsMap()) throw SceneError(fmt::format("{}: must be a block of keys", where));
+      for (const auto& kv : n) {
+        const auto key = kv.first.as<std::string>();
+        bool known = false;
+        for (const auto& c : f.children) known = known || c.name == key;
+        if (!known)
+          throw SceneError(fmt::format("{}: unknown key '{}' (allowed: {})",
+                                       where, key, join_names(f.children)));
+      }
+      for (const auto& c : f.children) {
+        const std::string sub = path.empty() ? c.name : path + "." + c.name;
+        if (n[c.name]) validate(c, n[c.name], sub, dim);
+        else if (c.required)
+          throw SceneError(fmt::format("missing required {} '{}'",
+                                       c.type == FieldType::map || c.type == FieldType::list
+                                           ? "block" : "key",
+                                       sub));
+      }
+      break;
+    }
+  }
+}
+
+// Value at a dotted path, or the schema's default for it (null if it has none).
+class Reader {
+ public:
+  explicit Reader(const YAML::Node& root) : root_(root) {}
+  YAML::Node at(const std::string& path) const {
+    YAML::Node n = YAML::Clone(root_);
+    const Field* f = &scene_schema();
+    std::stringstream ss(path);
+    std::string part;
+    while (std::getline(ss, part, '.')) {
+      const Field* next = nullptr;
+      for (const auto& c : f->children)
+        if (c.name == part) next = &c;
+      f = next;
+      n = (n && n.IsMap()) ? n[part] : YAML::Node();
+    }
+    if (n.IsDefined() && !n.IsNull()) return n;
+    return f && !f->default_value.empty() ? YAML::Load(f->default_value) : YAML::Node();
+  }
+  double number(const std::string& p) const { return at(p).as<double>(); }
+  int integer(const std::string& p) const { return static_cast<int>(at(p).as<double>()); }
+  std::string text(const std::string& p) const { return at(p).as<std::string>(); }
+  std::vector<double> vec(const std::string& p) const { return at(p).as<std::vector<double>>(); }
+
+ private:
+  YAML::Node root_;
+};
+
+Box read_box(const YAML::Node& n) { return {n["lo"].as<std::vector<double>>(), n["hi"].as<std::vector<double>>()}; }
+
+void apply_override(YAML::Node& root, const std::string& assignment) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw SceneError(fmt::format("--set '{}': expected key.path=value", assignment));
+  const std::string path = assignment.substr(0, eq);
+  YAML::Node value;
+  try {
+    value = YAML::Load(assignment.substr(eq + 1));
+  } catch (const YAML::Exception& e) {
+    throw SceneError(fmt::format("--set {}: cannot parse the value: {}", path, e.msg));
+  }
+  std::vector<std::string> parts;
+  std::stringstream ss(path);
+  for (std::string part; std::getline(ss, part, '.');) parts.push_back(part);
+  // yaml-cpp nodes are handles: walk down by reassigning references
+  std::vector<YAML::Node> chain{root};
+  for (std::size_t k = 0; k + 1 < parts.size(); ++k) {
+    YAML::Node child = chain.back()[parts[k]];
+    if (!child.IsDefined() || child.IsNull()) {
+      chain.back()[parts[k]] = YAML::Node(YAML::NodeType::Map);
+      child = chain.back()[parts[k]];
+    }
+    chain.push_back(child);
+  }
+  chain.back()[parts.back()] = value;
+}
+
+void check_box(const Box& b, const std::string& path) {
+  for (std::size_t k = 0; k < b.lo.size(); ++k)
+    if (!(b.hi[k] > b.lo[k]))
+      throw SceneError(fmt::format("{}: hi[{}] = {:g} m must exceed lo[{}] = {:g} m", path, k,
+                                   b.hi[k], k, b.lo[k]));
+}
+
+// Checks that need several keys at once.
+void check_consistency(const Scene& s) {
+  check_box(s.tank, "geometry.tank");
+  double smallest = 1e300;
+  for (int k = 0; k < s.dimension; ++k) smallest = std::min(smallest, s.tank.hi[k] - s.tank.lo[k]);
+  if (s.spacing * 2 > smallest)
+    throw SceneError(fmt::format("geometry.spacing = {:g} m: larger than half the tank's "
+                                 "smallest side ({:g} m)", s.spacing, smallest));
+  for (std::size_t b = 0; b < s.fluid.size(); ++b) {
+    const auto path = fmt::format("geometry.fluid[{}]", b);
+    const auto& f = s.fluid[b];
+    check_box(f, path);
+    for (int k = 0; k < s.dimension; ++k) {
+      if (f.lo[k] < s.tank.lo[k] - 1e-12 || f.hi[k] > s.tank.hi[k] + 1e-12)
+        throw SceneError(fmt::format("{}: axis {} spans [{:g}, {:g}] m, outside the tank "
+                                     "[{:g}, {:g}] m", path, k, f.lo[k], f.hi[k],
+                                     s.tank.lo[k], s.tank.hi[k]));
+      if (f.hi[k] - f.lo[k] < s.spacing)
+        throw SceneError(fmt::format("{}: thinner than geometry.spacing = {:g} m along axis {}",
+                                     path, s.spacing, k));
+    }
+    for (std::size_t o = 0; o < b; ++o) {
+      bool overlap = true;
+      for (int k = 0; k < s.dimension; ++k)
+        overlap = overlap && f.lo[k] < s.fluid[o].hi[k] && s.fluid[o].lo[k] < f.hi[k];
+      if (overlap)
+        throw SceneError(fmt::format("{} overlaps geometry.fluid[{}]", path, o));
+    }
+  }
+  // active walls (within 2h of fluid) need their own full support inside the band
+  const int c = static_cast<int>(std::ceil(2 * s.h_over_dx - 1e-9));
+  if (s.wall_layers < 2 * c - 2)
+    throw SceneError(fmt::format("geometry.wall_layers = {}: too few for numerics.h_over_dx = {:g}, "
+                                 "need at least {}", s.wall_layers, s.h_over_dx, 2 * c - 2));
+  if (s.gate && !(s.gate->x > s.tank.lo[0] && s.gate->x < s.tank.hi[0]))
+    throw SceneError(fmt::format("geometry.gate.x = {:g} m: must lie inside the tank ({:g}, {:g}) m",
+                                 s.gate->x, s.tank.lo[0], s.tank.hi[0]));
+  if (s.gravity.size() != static_cast<std::size_t>(s.dimension))
+    throw SceneError(fmt::format("material.gravity: needs {} entries", s.dimension));
+  if (s.metrics_kind == "dam_break" && !(s.column_width > 0))
+    throw SceneError("metrics.column_width: required (> 0 m) when metrics.kind = dam_break");
+  if (s.metrics_kind == "hydrostatic" && !(s.water_height > 0))
+    throw SceneError("metrics.water_height: required (> 0 m) when metrics.kind = hydrostatic");
+}
+
+}  // namespace
+
+Scene parse_scene(const std::string& yaml_text, const std::vector<std::string>& overrides) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& e) {
+    throw SceneError(fmt::format("not valid YAML: {}", e.what()));
+  }
+  if (!root.IsMap()) throw SceneError("the scene must be a block of keys");
+  for (const auto& o : overrides) apply_override(root, o);
+
+  // dimension first: vectors are checked against it
+  const auto& schema = scene_schema();
+  if (!root["dimension"]) throw SceneError("missing required key 'dimension'");
+  for (const auto& f : schema.children)
+    if (f.name == "dimension") validate(f, root["dimension"], "dimension", 0);
+  const int dim = root["dimension"].as<int>();
+  validate(schema, root, "", dim);
+
+  const Reader r(root);
+  Scene s;
+  s.name = r.text("name");
+  s.dimension = dim;
+  s.end_time = r.number("end_time");
+  s.density = r.number("material.density");
+  s.viscosity = r.number("material.kinematic_viscosity");
+  if (!r.at("material.gravity").IsNull()) s.gravity = r.vec("material.gravity");
+  else {
+    s.gravity.assign(dim, 0.0);
+    s.gravity[dim - 1] = -9.81;
+  }
+  s.spacing = r.number("geometry.spacing");
+  s.wall_layers = r.integer("geometry.wall_layers");
+  s.tank = {r.vec("geometry.tank.lo"), r.vec("geometry.tank.hi")};
+  s.open_top = r.at("geometry.tank.open_top").as<bool>();
+  for (const auto& b : root["geometry"]["fluid"]) s.fluid.push_back(read_box(b));
+  if (root["geometry"]["gate"])
+    s.gate = Scene::Gate{r.number("geometry.gate.x"), r.number("geometry.gate.remove_at")};
+  s.no_slip = r.text("boundary.slip") == "no_slip";
+  s.kernel = r.text("numerics.kernel");
+  s.h_over_dx = r.number("numerics.h_over_dx");
+  s.gamma = r.number("numerics.gamma");
+  s.cfl = r.number("numerics.cfl");
+  s.dt_max = r.number("numerics.dt_max");
+  s.cg_tolerance = r.number("numerics.cg_tolerance");
+  s.cg_max_iterations = r.integer("numerics.cg_max_iterations");
+  s.surface_criterion = r.text("numerics.surface_criterion");
+  s.surface_divergence_threshold = r.number("numerics.surface_divergence_threshold");
+  s.surface_density_threshold = r.number("numerics.surface_density_threshold");
+  s.reorder_every = r.integer("numerics.reorder_every");
+  s.snapshot_every = r.number("output.snapshot_every");
+  s.series_every = r.integer("output.series_every");
+  s.metrics_kind = r.text("metrics.kind");
+  s.column_width = r.number("metrics.column_width");
+  s.water_height = r.number("metrics.water_height");
+  check_consistency(s);
+  YAML::Emitter e;
+  e << root;
+  s.yaml = e.c_str();
+  return s;
+}
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  std::ifstream in(path);
+  if (!in) throw SceneError(fmt::format("cannot read scene file '{}'", path));
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse_scene(text.str(), overrides);
+}
+
+}  // namespace dvisph

@@ -1,0 +1,60 @@
+#pragma once
+// A scene: the typed content of a validated scene file (see src/schema.cpp).
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace dvisph {
+
+// Bad input: the message names the key, the value and what is allowed (exit code 2).
+struct SceneError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct Box {
+  std::vector<double> lo, hi;
+};
+
+struct Scene {
+  std::string name;
+  int dimension = 2;
+  double end_time = 0;
+
+  double density = 1000, viscosity = 0;
+  std::vector<double> gravity;
+
+  double spacing = 0;
+  int wall_layers = 3;
+  Box tank;
+  bool open_top = true;
+  std::vector<Box> fluid;
+  struct Gate {
+    double x, remove_at;
+  };
+  std::optional<Gate> gate;
+
+  bool no_slip = true;
+
+  std::string kernel;
+  double h_over_dx = 1.5, gamma = 0.001, cfl = 0.25, dt_max = 1e-3, cg_tolerance = 1e-8;
+  int cg_max_iterations = 2000;
+  std::string surface_criterion = "position_divergence";
+  double surface_divergence_threshold = 0.75, surface_density_threshold = 0.95;
+  int reorder_every = 25;
+
+  double snapshot_every = 0;
+  int series_every = 1;
+
+  std::string metrics_kind = "none";
+  double column_width = 0, water_height = 0;
+
+  std::string yaml;  // the scene as validated, overrides applied
+};
+
+// Reads, overrides (`key.path=value`), validates and converts a scene file.
+// Throws SceneError on any bad input.
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+Scene parse_scene(const std::string& yaml_text, const std::vector<std::string>& overrides = {});
+
+}  // namespace dvisph

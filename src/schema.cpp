@@ -1,0 +1,215 @@
+#include "src/schema.hpp"
+
+#include <fmt/format.h>
+
+#include <sstream>
+
+namespace dvisph {
+namespace {
+
+constexpr double inf = 1e300;
+
+Field number(std::string name, std::string unit, std::string def, double min, double max,
+             std::string help, bool min_exclusive = false) {
+  Field f{std::move(name), FieldType::number, std::move(unit), std::move(help)};
+  f.default_value = std::move(def);
+  f.required = f.default_value.empty();
+  f.min = min;
+  f.max = max;
+  f.min_exclusive = min_exclusive;
+  return f;
+}
+Field integer(std::string name, std::string def, double min, double max, std::string help) {
+  Field f = number(std::move(name), "", std::move(def), min, max, std::move(help));
+  f.type = FieldType::integer;
+  return f;
+}
+Field boolean(std::string name, std::string def, std::string help) {
+  Field f{std::move(name), FieldType::boolean, "", std::move(help)};
+  f.default_value = std::move(def);
+  return f;
+}
+Field choice(std::string name, std::string def, std::vector<std::string> choices,
+             std::string help) {
+  Field f{std::move(name), FieldType::choice, "", std::move(help)};
+  f.default_value = std::move(def);
+  f.required = f.default_value.empty();
+  f.choices = std::move(choices);
+  return f;
+}
+Field vector(std::string name, std::string unit, std::string def, std::string help) {
+  Field f{std::move(name), FieldType::vector, std::move(unit), std::move(help)};
+  f.default_value = std::move(def);
+  f.required = f.default_value.empty();
+  return f;
+}
+Field map(std::string name, bool required, std::vector<Field> children, std::string help) {
+  Field f{std::move(name), FieldType::map, "", std::move(help)};
+  f.required = required;
+  f.children = std::move(children);
+  return f;
+}
+Field list(std::string name, bool required, std::vector<Field> item, std::string help) {
+  Field f = map(std::move(name), required, std::move(item), std::move(help));
+  f.type = FieldType::list;
+  return f;
+}
+Field box(std::string name, bool required, std::string help) {
+  return map(std::move(name), required,
+             {vector("lo", "m", "", "lower corner"), vector("hi", "m", "", "upper corner")},
+             std::move(help));
+}
+
+Field make_schema() {
+  return map(
+      "", true,
+      {
+          choice("name", "scene", {}, "scene name, used in outputs"),
+          integer("dimension", "", 2, 3, "spatial dimension: 2 or 3"),
+          number("end_time", "s", "", 0, inf, "simulated time to run", true),
+          map("material", false,
+              {
+                  number("density", "kg/m^3", "1000", 0, inf, "fluid reference density", true),
+                  number("kinematic_viscosity", "m^2/s", "1.0e-6", 0, 1,
+                         "fluid kinematic viscosity; 0 runs no viscosity loop"),
+                  vector("gravity", "m/s^2", "", "gravity vector, one entry per dimension "
+                                                 "(default: -9.81 along the last axis)"),
+              },
+              "fluid properties"),
+          map("geometry", true,
+              {
+                  number("spacing", "m", "", 0, inf, "initial particle spacing dx", true),
+                  integer("wall_layers", "4", 1, 12,
+                          "layers of wall particles; at least 2 ceil(2h/dx) - 2 so that wall "
+                          "particles near the fluid have full support"),
+                  map("tank", true,
+                      {
+                          vector("lo", "m", "", "lower corner of the inner tank faces"),
+                          vector("hi", "m", "", "upper corner of the inner tank faces"),
+                          boolean("open_top", "true", "no wall on the top face"),
+                      },
+                      "tank: box of wall particles around the fluid"),
+                  list("fluid", true,
+                       {vector("lo", "m", "", "lower corner"), vector("hi", "m", "", "upper corner")},
+                       "boxes filled with fluid particles (a list of lo/hi maps)"),
+                  map("gate", false,
+                      {
+                          number("x", "m", "", -inf, inf, "position of the gate plane (first axis)"),
+                          number("remove_at", "s", "0", 0, inf, "time at which the gate is removed"),
+                      },
+                      "optional gate: a wall plane across the tank, removed at a given time"),
+              },
+              "what is where"),
+          map("boundary", false,
+              {choice("slip", "no_slip", {"no_slip", "free_slip"},
+                      "wall condition for the viscous term")},
+              "wall conditions"),
+          map("numerics", false,
+              {
+                  choice("kernel", "wendland_c2", {"cubic_spline", "wendland_c2"},
+                         "smoothing kernel (Wendland C2 keeps a square lattice under pressure "
+                         "from rearranging)"),
+                  number("h_over_dx", "", "1.5", 1.0, 2.5, "smoothing length over spacing"),
+                  number("gamma", "", "0.001", 0, 1,
+                         "density-invariance (stabilization) parameter of the PPE"),
+                  number("cfl", "", "0.25", 0, 1, "Courant number on h / max|v|", true),
+                  number("dt_max", "s", "1.0e-3", 0, inf, "largest time step", true),
+                  number("cg_tolerance", "", "1.0e-8", 1e-14, 1e-1,
+                         "relative residual at which CG stops"),
+                  integer("cg_max_iterations", "2000", 1, 1e6, "CG iteration cap"),
+                  choice("surface_criterion", "position_divergence",
+                         {"position_divergence", "density"},
+                         "free-surface test (P = 0): div r or summation density against its "
+                         "interior value"),
+                  number("surface_divergence_threshold", "", "0.75", 0.3, 1.0,
+                         "position_divergence: div r / interior value below which a particle "
+                         "is on the free surface"),
+                  number("surface_density_threshold", "", "0.95", 0.5, 1.0,
+                         "density: <rho> / interior value below which a particle is on the "
+                         "free surface"),
+                  integer("reorder_every", "25", 0, 1e9,
+                          "steps between reorderings of particles by cell (0: never)"),
+              },
+              "numerical parameters"),
+          map("output", false,
+              {
+                  number("snapshot_every", "s", "0", 0, inf,
+                         "interval between HDF5 snapshots (0: first and last only)"),
+                  integer("series_every", "1", 1, 1e9, "steps between rows of series.csv"),
+              },
+              "what is written"),
+          map("metrics", false,
+              {
+                  choice("kind", "none", {"none", "hydrostatic", "dam_break"},
+                         "scene-specific figures in summary.json"),
+                  number("column_width", "m", "0", 0, inf,
+                         "dam_break: width a of the initial water column (Z = z/a, "
+                         "T = t sqrt(2 g / a))"),
+                  number("water_height", "m", "0", 0, inf,
+                         "hydrostatic: still-water height H for P = rho g (H - y)"),
+              },
+              "figures the run reports"),
+      },
+      "scene");
+}
+
+const char* type_name(const Field& f) {
+  switch (f.type) {
+    case FieldType::number: return "number";
+    case FieldType::integer: return "integer";
+    case FieldType::boolean: return "true/false";
+    case FieldType::choice: return "text";
+    case FieldType::vector: return "list of numbers (one per dimension)";
+    case FieldType::map: return "block";
+    case FieldType::list: return "list of blocks";
+  }
+  return "";
+}
+
+std::string range_text(const Field& f) {
+  if (f.type == FieldType::choice && !f.choices.empty()) {
+    std::string s;
+    for (const auto& c : f.choices) s += (s.empty() ? "" : ", ") + ("`" + c + "`");
+    return s;
+  }
+  if (f.type != FieldType::number && f.type != FieldType::integer) return "";
+  const std::string lo = f.min <= -inf ? "" : fmt::format("{}{:g}", f.min_exclusive ? "> " : ">= ", f.min);
+  const std::string hi = f.max >= inf ? "" : fmt::format("<= {:g}", f.max);
+  return lo + (lo.empty() || hi.empty() ? "" : ", ") + hi;
+}
+
+void markdown_rows(const Field& f, const std::string& prefix, std::ostringstream& out) {
+  for (const auto& c : f.children) {
+    const std::string path = prefix.empty() ? c.name : prefix + "." + c.name;
+    const std::string def =
+        c.required ? "required" : (c.default_value.empty() ? "—" : "`" + c.default_value + "`");
+    out << "| `" << path << (c.type == FieldType::list ? "[]" : "") << "` | " << type_name(c)
+        << " | " << (c.unit.empty() ? "—" : c.unit) << " | " << def << " | " << range_text(c)
+        << " | " << c.help << " |\n";
+    if (c.type == FieldType::map || c.type == FieldType::list)
+      markdown_rows(c, path + (c.type == FieldType::list ? "[]" : ""), out);
+  }
+}
+
+}  // namespace
+
+const Field& scene_schema() {
+  static const Field schema = make_schema();
+  return schema;
+}
+
+std::string schema_markdown() {
+  std::ostringstream out;
+  out << "# Scene files\n\n"
+      << "Generated by `build/dvisph schema` from the schema the loader checks against "
+         "(src/schema.cpp); do not edit by hand.\n\n"
+      << "A scene is a YAML file. Unknown keys, wrong types and values out of range are "
+         "rejected with a message naming the key (exit code 2). `dvisph check SCENE` "
+         "validates without running; `--set key=value` overrides a key from the command "
+         "line (e.g. `--set numerics.cfl=0.2`).\n\n"
+      << "| key | type | unit | default | allowed | meaning |\n|---|---|---|---|---|---|\n";
+  markdown_rows(scene_schema(), "", out);
+  return out.str();
+}
+
+}  // namespace dvisph

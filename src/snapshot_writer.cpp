@@ -1,0 +1,105 @@
+#include "src/snapshot_writer.hpp"
+
+#include <fmt/format.h>
+#include <fmt/os.h>
+#include <hdf5.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+
+namespace dvisph {
+namespace {
+
+void check(herr_t status, const std::string& what) {
+  if (status < 0) throw std::runtime_error("HDF5: " + what);
+}
+
+template <class T>
+void write_dataset(hid_t file, const std::string& name, hid_t type, const T* data, hsize_t rows,
+                   hsize_t cols, const std::string& path) {
+  const hsize_t dims[2] = {rows, cols};
+  const hid_t space = H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr);
+  const hid_t set = H5Dcreate2(file, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  if (set < 0) {
+    H5Sclose(space);
+    throw std::runtime_error(fmt::format("cannot create dataset {} in {}", name, path));
+  }
+  const herr_t status = H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data);
+  H5Dclose(set);
+  H5Sclose(space);
+  check(status, fmt::format("cannot write dataset {} in {}", name, path));
+}
+
+}  // namespace
+
+void SnapshotWriter::write(double t, int dim, const std::vector<double>& x,
+                           const std::vector<SnapshotField>& fields, const std::vector<int>& kind) {
+  const long n = static_cast<long>(kind.size());
+  const std::string name = fmt::format("snapshot_{:05d}.h5", count());
+  const std::string path = dir_ + "/" + name;
+  const std::string tmp = path + ".tmp";
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors are reported by us
+  const hid_t file = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (file < 0) throw std::runtime_error(fmt::format("cannot create {}", tmp));
+  try {
+    write_dataset(file, "x", H5T_NATIVE_DOUBLE, x.data(), n, dim, tmp);
+    write_dataset(file, "kind", H5T_NATIVE_INT, kind.data(), n, 1, tmp);
+    for (const auto& f : fields)
+      write_dataset(file, f.name, H5T_NATIVE_DOUBLE, f.values.data(), n, f.components, tmp);
+    const hsize_t one = 1;
+    const hid_t space = H5Screate_simple(1, &one, nullptr);
+    const hid_t attr = H5Acreate2(file, "time", H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT);
+    check(H5Awrite(attr, H5T_NATIVE_DOUBLE, &t), "cannot write time attribute in " + tmp);
+    H5Aclose(attr);
+    H5Sclose(space);
+  } catch (...) {
+    H5Fclose(file);
+    std::remove(tmp.c_str());
+    throw;
+  }
+  if (H5Fclose(file) < 0) {
+    std::remove(tmp.c_str());
+    throw std::runtime_error(fmt::format("cannot close {} (disk full?)", tmp));
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) throw std::runtime_error(fmt::format("cannot rename {} to {}: {}", tmp, path, ec.message()));
+  Entry e{name, t, n, dim, {}};
+  for (const auto& f : fields) e.fields.emplace_back(f.name, f.components);
+  e.fields.emplace_back("kind", -1);
+  entries_.push_back(std::move(e));
+  write_index();
+}
+
+void SnapshotWriter::write_index() const {
+  const std::string path = dir_ + "/snapshots.xdmf", tmp = path + ".tmp";
+  {
+    auto out = fmt::output_file(tmp);
+    out.print("<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
+              "<Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
+    for (const auto& e : entries_) {
+      out.print("<Grid Name=\"{}\" GridType=\"Uniform\">\n<Time Value=\"{:.9g}\"/>\n", e.file, e.t);
+      out.print("<Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\"/>\n", e.n);
+      out.print("<Geometry GeometryType=\"{}\">\n<DataItem Dimensions=\"{} {}\" NumberType=\"Float\" "
+                "Precision=\"8\" Format=\"HDF\">{}:/x</DataItem>\n</Geometry>\n",
+                e.dim == 2 ? "XY" : "XYZ", e.n, e.dim, e.file);
+      for (const auto& [name, comps] : e.fields) {
+        const bool is_int = comps < 0;
+        const int c = is_int ? 1 : comps;
+        out.print("<Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\">\n<DataItem "
+                  "Dimensions=\"{}{}\" NumberType=\"{}\" Precision=\"{}\" Format=\"HDF\">{}:/{}"
+                  "</DataItem>\n</Attribute>\n",
+                  name, c == 1 ? "Scalar" : "Vector", e.n, c == 1 ? "" : fmt::format(" {}", c),
+                  is_int ? "Int" : "Float", is_int ? 4 : 8, e.file, name);
+      }
+      out.print("</Grid>\n");
+    }
+    out.print("</Grid>\n</Domain>\n</Xdmf>\n");
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) throw std::runtime_error(fmt::format("cannot write {}: {}", path, ec.message()));
+}
+
+}  // namespace dvisph
