@@ -13,7 +13,7 @@ log() { echo "[setup] $*" >&2; }
 
 packages=(cmake g++ make pkg-config libeigen3-dev libhdf5-dev catch2 libyaml-cpp-dev
           libcli11-dev libfmt-dev libbenchmark-dev python3 python3-h5py python3-matplotlib
-          python3-numpy)
+          python3-numpy python3-yaml)
 
 sudo_() { if [ "$(id -u)" = 0 ]; then "$@"; else sudo "$@"; fi; }
 

@@ -1,6 +1,7 @@
 #pragma once
 // Figures a run reports while it goes (series.csv) and at its end (summary.json).
 #include "solvers/isph/roles.hpp"
+#include "src/scene.hpp"
 
 #include <fstream>
 #include <sstream>
@@ -58,15 +59,16 @@ inline FrontData martin_moyce() {
   return d;
 }
 
-// RMS of (Z_sim - Z_data) / Z_data over data points with T in [t_lo, t_hi], the
-// simulated front interpolated linearly in T. Returns -1 if no point is covered.
+// RMS of (Z_sim(T - lag) - Z_data(T)) / Z_data(T) over data points with T in
+// [t_lo, t_hi], the simulated front interpolated linearly in T. Returns -1 if no
+// point is covered.
 inline double front_rms_deviation(const FrontData& sim, const FrontData& data, double t_lo,
-                                  double t_hi, int* points = nullptr) {
+                                  double t_hi, int* points = nullptr, double lag = 0) {
   double sum = 0;
   int count = 0;
   for (std::size_t k = 0; k < data.T.size(); ++k) {
-    const double T = data.T[k];
-    if (T < t_lo || T > t_hi) continue;
+    if (data.T[k] < t_lo || data.T[k] > t_hi) continue;
+    const double T = data.T[k] - lag;
     for (std::size_t s = 1; s < sim.T.size(); ++s)
       if (sim.T[s - 1] <= T && T <= sim.T[s]) {
         const double w = (T - sim.T[s - 1]) / (sim.T[s] - sim.T[s - 1]);
@@ -78,6 +80,49 @@ inline double front_rms_deviation(const FrontData& sim, const FrontData& data, d
   }
   if (points) *points = count;
   return count ? std::sqrt(sum / count) : -1;
+}
+
+// The time lag (in T, within +-1) that minimises the deviation: how much of the
+// deviation is a shift in time, as from the gate opening in the experiment.
+inline double best_front_lag(const FrontData& sim, const FrontData& data, double t_lo, double t_hi) {
+  double best = 0, best_rms = 1e300;
+  for (double lag = -1; lag <= 1; lag += 0.005) {
+    int points = 0, all = 0;
+    front_rms_deviation(sim, data, t_lo, t_hi, &all);
+    const double rms = front_rms_deviation(sim, data, t_lo, t_hi, &points, lag);
+    if (points == all && rms >= 0 && rms < best_rms) best_rms = rms, best = lag;
+  }
+  return best;
+}
+
+// Pressure against rho g (H - y) over fluid particles at least two layers below the
+// still-water height H (metrics.water_height).
+struct HydrostaticErrors {
+  double max_over_rho_g_H = 0, rms_over_rho_g_H = 0, max_pointwise = 0;
+  int checked = 0;
+};
+
+template <int D, class Solver>
+HydrostaticErrors hydrostatic_errors(const Solver& solver, const Scene& s) {
+  const auto& p = solver.particles();
+  auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.x);
+  auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.kind);
+  auto pr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), solver.pressure());
+  const double g = std::abs(s.gravity[D - 1]), H = s.water_height, rg = s.density * g;
+  HydrostaticErrors e;
+  double sum2 = 0;
+  for (int i = 0; i < solver.size(); ++i) {
+    if (kind(i) != Kind::fluid) continue;
+    const double y = x(i, D - 1);
+    if (y > H - 2 * s.spacing) continue;
+    const double exact = rg * (H - y), err = std::abs(pr(i, 0) - exact);
+    e.max_over_rho_g_H = std::max(e.max_over_rho_g_H, err / (rg * H));
+    e.max_pointwise = std::max(e.max_pointwise, err / exact);
+    sum2 += err * err;
+    ++e.checked;
+  }
+  e.rms_over_rho_g_H = std::sqrt(sum2 / std::max(e.checked, 1)) / (rg * H);
+  return e;
 }
 
 }  // namespace dvisph

@@ -43,6 +43,10 @@ Field vector(std::string name, std::string unit, std::string def, std::string he
   f.required = f.default_value.empty();
   return f;
 }
+Field optional(Field f) {
+  f.required = false;
+  return f;
+}
 Field map(std::string name, bool required, std::vector<Field> children, std::string help) {
   Field f{std::move(name), FieldType::map, "", std::move(help)};
   f.required = required;
@@ -72,8 +76,8 @@ Field make_schema() {
                   number("density", "kg/m^3", "1000", 0, inf, "fluid reference density", true),
                   number("kinematic_viscosity", "m^2/s", "1.0e-6", 0, 1,
                          "fluid kinematic viscosity; 0 runs no viscosity loop"),
-                  vector("gravity", "m/s^2", "", "gravity vector, one entry per dimension "
-                                                 "(default: -9.81 along the last axis)"),
+                  optional(vector("gravity", "m/s^2", "", "gravity vector, one entry per dimension "
+                                                          "(default: -9.81 along the last axis)")),
               },
               "fluid properties"),
           map("geometry", true,

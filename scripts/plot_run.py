@@ -1,0 +1,105 @@
+#!/usr/bin/python3
+"""Plots of a run directory (written by `dvisph run`): the surge front against Martin &
+Moyce (1952) for dam breaks, pressure against depth for hydrostatic tanks.
+Usage: plot_run.py RUN_DIR [more RUN_DIRs with the same metrics kind] [-o PNG]"""
+import argparse
+import csv
+import glob
+import json
+import os
+
+import h5py
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import yaml  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def scene_of(run):
+    with open(os.path.join(run, "scene.yaml")) as f:
+        return yaml.safe_load(f)
+
+
+def series(run):
+    with open(os.path.join(run, "series.csv")) as f:
+        rows = list(csv.DictReader(f))
+    return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
+
+
+def martin_moyce():
+    d = np.loadtxt(os.path.join(ROOT, "data", "martin_moyce_1952.csv"), delimiter=",",
+                   comments="#", skiprows=4)
+    return d[:, 0], d[:, 1]
+
+
+def plot_front(runs, png):
+    fig, ax = plt.subplots(figsize=(6, 4.5))
+    T, Z = martin_moyce()
+    ax.plot(T, Z, "ko", label="Martin & Moyce (1952)")
+    for run in runs:
+        s, sc = series(run), scene_of(run)
+        a = sc["metrics"]["column_width"]
+        g = abs(sc.get("material", {}).get("gravity", [0, -9.81])[-1])
+        summary = json.load(open(os.path.join(run, "summary.json")))
+        rms = summary["metrics"].get("front_rms_deviation_T1_3", float("nan"))
+        label = f"{sc.get('name', run)}: a/dx = {a / sc['geometry']['spacing']:.0f}, RMS dev. (T 1-3) {100 * rms:.1f} %"
+        ax.plot(s["t"] * np.sqrt(2 * g / a), s["front"] / a, "-", label=label)
+    ax.set_xlabel("T = t sqrt(2g/a)")
+    ax.set_ylabel("Z = z/a")
+    ax.set_xlim(0, 4)
+    ax.set_ylim(1, 5)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(png, dpi=120)
+
+
+def plot_pressure(runs, png):
+    fig, ax = plt.subplots(figsize=(5, 5))
+    for run in runs:
+        sc = scene_of(run)
+        snaps = sorted(glob.glob(os.path.join(run, "snapshot_*.h5")))
+        with h5py.File(snaps[-1]) as f:
+            x, p, kind, t = f["x"][:], f["pressure"][:], f["kind"][:], f["time"][0]
+        dim = x.shape[1]
+        fluid = kind == 0
+        y = x[fluid, dim - 1]
+        rho = sc.get("material", {}).get("density", 1000.0)
+        g = abs(sc.get("material", {}).get("gravity", [0] * (dim - 1) + [-9.81])[-1])
+        H = sc["metrics"]["water_height"]
+        ax.plot(p[fluid] / (rho * g * H), (H - y) / H, ".", ms=2,
+                label=f"{sc.get('name', run)} at t = {t:.2f} s")
+    ax.plot([0, 1], [0, 1], "k-", lw=1, label="rho g (H - y)")
+    ax.set_xlabel("P / (rho g H)")
+    ax.set_ylabel("depth (H - y) / H")
+    ax.invert_yaxis()
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(png, dpi=120)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("runs", nargs="+")
+    ap.add_argument("-o", "--output", help="PNG file (default: RUN_DIR/<kind>.png)")
+    args = ap.parse_args()
+    kind = scene_of(args.runs[0]).get("metrics", {}).get("kind", "none")
+    if kind == "dam_break":
+        png = args.output or os.path.join(args.runs[0], "front.png")
+        plot_front(args.runs, png)
+    elif kind == "hydrostatic":
+        png = args.output or os.path.join(args.runs[0], "pressure.png")
+        plot_pressure(args.runs, png)
+    else:
+        print("no plot for metrics kind", kind)
+        return
+    print("wrote", png)
+
+
+if __name__ == "__main__":
+    main()
