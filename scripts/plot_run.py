@@ -64,7 +64,7 @@ def plot_pressure(runs, png):
         sc = scene_of(run)
         snaps = sorted(glob.glob(os.path.join(run, "snapshot_*.h5")))
         with h5py.File(snaps[-1]) as f:
-            x, p, kind, t = f["x"][:], f["pressure"][:], f["kind"][:], f["time"][0]
+            x, p, kind, t = f["x"][:], f["pressure"][:], f["kind"][:], f.attrs["time"][0]
         dim = x.shape[1]
         fluid = kind == 0
         y = x[fluid, dim - 1]

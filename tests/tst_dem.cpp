@@ -62,17 +62,14 @@ Real rebound(Real e, bool wall, Real safety, Real phase, bool non_attractive = f
   }
   Spheres<D, TestSpace> s(x, r, bead_rho);
   const int normal = wall ? D - 1 : 0;
+  auto hv = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.v);
   if (wall) {
-    set_row(s.v, 0, std::vector<Real>(D, 0));
-    auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.v);
-    h(0, normal) = -1;
-    Kokkos::deep_copy(s.v, h);
+    hv(0, normal) = -1;
   } else {
-    auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.v);
-    h(0, 0) = 0.5;
-    h(1, 0) = -0.5;
-    Kokkos::deep_copy(s.v, h);
+    hv(0, 0) = 0.5;
+    hv(1, 0) = -0.5;
   }
+  Kokkos::deep_copy(s.v, hv);
   DemSolver<D, TestSpace> dem(s, walls, law, filled<D>(-0.02), filled<D>(0.02), Vec<D>::zero(),
                               opt);
   REQUIRE(dem.time_step() == Approx(dt).epsilon(1e-14));

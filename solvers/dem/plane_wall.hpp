@@ -15,13 +15,13 @@ template <int D>
 struct PlaneWall {
   Vec<D> point;   // any point of the plane [m]
   Vec<D> normal;  // unit, pointing into the domain
-  bool active = true;
-  Real remove_at = std::numeric_limits<Real>::infinity();  // time the wall goes away [s]
+  bool active;
+  Real remove_at;  // time the wall goes away [s]
 
-  PlaneWall() = default;
+  PlaneWall() = default;  // trivial, so device arrays of walls need no constructor
   PlaneWall(const Vec<D>& p, const Vec<D>& n,
             Real removal_time = std::numeric_limits<Real>::infinity())
-      : point(p), normal(n), remove_at(removal_time) {
+      : point(p), normal(n), active(true), remove_at(removal_time) {
     const Real len = std::sqrt(dot(n, n));
     if (!(len > 0)) throw std::invalid_argument("PlaneWall: zero normal");
     normal = (1 / len) * n;
