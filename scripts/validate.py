@@ -17,10 +17,23 @@ CASES = [  # scene, acceptance (text), figures from summary.json metrics
     ("hydrostatic_3d", "P within 1 % of rho g (H - y) below the top two layers; no particle lost",
      ["pressure_max_error_over_rho_g_H", "pressure_rms_error_over_rho_g_H", "max_density_error"]),
     ("dam_break_2d", "front RMS deviation from Martin & Moyce, T in [1, 3]: goal 5 %, limit 10 %",
-     ["front_rms_deviation_T1_3", "max_density_error"]),
+     ["front_rms_deviation_T1_3", "front_best_lag_T", "front_rms_deviation_T1_3_after_lag",
+      "max_density_error"]),
     ("dam_break_3d", "front RMS deviation from Martin & Moyce, T in [1, 3]: goal 5 %, limit 10 %",
-     ["front_rms_deviation_T1_3", "max_density_error"]),
+     ["front_rms_deviation_T1_3", "front_best_lag_T", "front_rms_deviation_T1_3_after_lag",
+      "max_density_error"]),
 ]
+
+
+NOTES = """`front_best_lag_T` is the shift in T of the simulated front that fits Martin &
+Moyce best and `..._after_lag` the deviation left after it: the simulated fronts have
+the measured shape and lead the data by about 0.2-0.3 in T (10-15 ms at a = 5 cm),
+which is the size of the delay usually put down to the gate opening in the experiment.
+The density error is the largest over submerged particles (P >= 100 Pa) and the whole
+run; with gamma = 0.001 (the paper's conventional value) it reaches 8-12 % in the dam
+breaks, which is what the dual-velocity method is meant to fix.
+
+"""
 
 
 def main():
@@ -55,6 +68,7 @@ def main():
         f.write("| scene | fluid particles | steps | simulated | wall time | CG mean / max | "
                 "figures | acceptance |\n|---|---|---|---|---|---|---|---|\n")
         f.write("\n".join(rows) + "\n\n")
+        f.write(NOTES)
         for name, _, _ in CASES:
             kind = "front" if name.startswith("dam") else "pressure"
             if os.path.exists(os.path.join(ROOT, "docs", f"{name}_{kind}.png")):
