@@ -3,7 +3,7 @@
 // law with Coulomb friction, gravity and an external force per bead held over a fluid
 // step. Velocity Verlet: half kick, drift, rebin, contact forces, half kick. Contacts are
 // found by the cell sweep of src/ over a cell list rebuilt every step (binning costs a
-// few per cent of a step, benchmarks/RESULTS_dem.md); contact forces are gathered per
+// few per cent of a step, benchmarks/RESULTS.md); contact forces are gathered per
 // bead, so each bead writes only its own force, torque and history row.
 #include "solvers/dem/contact_history.hpp"
 #include "solvers/dem/linear_spring_dashpot.hpp"
