@@ -1,6 +1,8 @@
 // dvisph command line: run, check, schema.
 #include "kernels/cubic_spline.hpp"
 #include "kernels/wendland_c2.hpp"
+#include "src/dem_run.hpp"
+#include "src/isph_run.hpp"
 #include "src/run.hpp"
 #include "src/scene.hpp"
 #include "src/schema.hpp"
@@ -10,16 +12,27 @@
 #include <fmt/core.h>
 #include <unistd.h>
 
+#include <filesystem>
+
 namespace {
 
 enum Exit { ok = 0, failure = 1, bad_input = 2, numerical = 3 };
 
+// Builds the simulation the scene needs (a fluid scene runs no DEM code, a bead
+// scene no fluid code) and runs it.
+template <int D>
 int dispatch(const dvisph::Scene& s, const dvisph::RunOptions& opt) {
   using namespace dvisph;
-  const bool cubic = s.kernel == "cubic_spline";
-  if (s.dimension == 2)
-    return cubic ? run_scene<2, CubicSpline<2>>(s, opt) : run_scene<2, WendlandC2<2>>(s, opt);
-  return cubic ? run_scene<3, CubicSpline<3>>(s, opt) : run_scene<3, WendlandC2<3>>(s, opt);
+  if (s.fluid.empty()) {
+    DemRun<D> sim(s);
+    return run(sim, s, opt);
+  }
+  if (s.kernel == "cubic_spline") {
+    IsphRun<D, CubicSpline<D>> sim(s);
+    return run(sim, s, opt);
+  }
+  IsphRun<D, WendlandC2<D>> sim(s);
+  return run(sim, s, opt);
 }
 
 }  // namespace
@@ -36,6 +49,10 @@ int main(int argc, char** argv) {
   run->add_option("--out", out_dir, "output directory (default: out/<scene name>)");
   run->add_option("--set", overrides, "override a scene key: key.path=value")->take_all();
   run->add_flag("--quiet", quiet, "no progress line");
+  std::string restart;
+  run->add_option("--restart", restart,
+                  "continue from a checkpoint (checkpoint.h5 or last_good.h5 of an earlier run "
+                  "of the same scene); output goes to the checkpoint's directory unless --out");
   auto* check = app.add_subcommand("check", "validate a scene file and exit");
   check->add_option("scene", scene_path, "scene file (YAML)")->required();
   check->add_option("--set", overrides, "override a scene key: key.path=value")->take_all();
@@ -73,10 +90,16 @@ int main(int argc, char** argv) {
   for (auto& a : kokkos_args) kargv.push_back(a.data());
   int kargc = static_cast<int>(kargv.size());
   Kokkos::ScopeGuard kokkos(kargc, kargv.data());
-  dvisph::RunOptions opt{out_dir.empty() ? "out/" + scene.name : out_dir,
-                         !quiet && isatty(fileno(stderr))};
+  if (out_dir.empty())
+    out_dir = restart.empty() ? "out/" + scene.name
+                              : std::filesystem::path(restart).parent_path().string();
+  if (out_dir.empty()) out_dir = ".";
+  const dvisph::RunOptions opt{out_dir, !quiet && isatty(fileno(stderr)), restart};
   try {
-    return dispatch(scene, opt);
+    return scene.dimension == 2 ? dispatch<2>(scene, opt) : dispatch<3>(scene, opt);
+  } catch (const dvisph::SceneError& e) {
+    fmt::print(stderr, "error: {}: {}\n", scene_path, e.what());
+    return bad_input;
   } catch (const dvisph::NumericalError& e) {
     fmt::print(stderr, "\nnumerical failure: {}\n", e.what());
     return numerical;

@@ -3,6 +3,7 @@
 #include "solvers/isph/roles.hpp"
 #include "src/scene.hpp"
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -39,6 +40,49 @@ Real max_density_error(const Rho& rho, const P& p, const KindV& kind, Real rho_r
       },
       Kokkos::Max<Real>(err));
   return err;
+}
+
+// 95th percentile of |<rho> - rho_ref| / rho_ref over the same particles (0 if none),
+// from a histogram with 100 logarithmic bins per decade on [1e-6, 1): the upper edge of
+// the bin that holds it, within 2.3 %.
+template <class Space, class Rho, class P, class KindV>
+Real density_error_p95(const Rho& rho, const P& p, const KindV& kind, Real rho_ref, int n) {
+  constexpr int per_decade = 100, decades = 6, bins = per_decade * decades;
+  constexpr Real smallest = 1e-6;
+  Kokkos::View<int*, typename Space::memory_space> count("dvisph::metrics::density_error_bins", bins);
+  Kokkos::parallel_for(
+      "dvisph::metrics::density_error_histogram", Kokkos::RangePolicy<Space>(0, n),
+      KOKKOS_LAMBDA(int i) {
+        if (kind(i) != Kind::fluid || p(i, 0) < submerged_pressure) return;
+        const Real e = math::abs(rho(i) - rho_ref) / rho_ref;
+        const Real b = e > smallest ? per_decade * math::log(e / smallest) / math::log(10.0) : 0;
+        Kokkos::atomic_increment(&count(b < bins - 1 ? static_cast<int>(b) : bins - 1));
+      });
+  const auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), count);
+  long total = 0;
+  for (int b = 0; b < bins; ++b) total += h(b);
+  long below = 0;
+  for (int b = 0; b < bins; ++b) {
+    below += h(b);
+    if (below >= 0.95 * total && total > 0) return smallest * std::pow(10.0, (b + 1.0) / per_decade);
+  }
+  return 0;
+}
+
+// Sweeps over the stored neighbour pairs that one ISPH step makes besides its CG
+// iterations (one mat-vec each), from the names of its stages (isph_solver.hpp): the
+// list build meets every pair twice (count, fill), the pressure stage sweeps to assemble
+// and for the initial residual, the density, viscous predictor and corrector once each.
+// Rows that do no work (walls away from water) are counted too: an upper bound.
+template <class Stages>
+int pair_sweeps_outside_cg(const Stages& stages) {
+  int sweeps = 0;
+  for (const auto& st : stages) {
+    if (st.name == "neighbors" || st.name == "pressure_poisson") sweeps += 2;
+    if (st.name == "density_and_roles" || st.name == "predictor_viscous" || st.name == "corrector")
+      sweeps += 1;
+  }
+  return sweeps;
 }
 
 // Martin & Moyce (1952) surge front, Z = z/a against T = t sqrt(2g/a).

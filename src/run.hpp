@@ -1,22 +1,30 @@
 #pragma once
-// Runs a scene with the ISPH solver: progress, series.csv, snapshots, summary.json.
-#include "solvers/isph/isph_solver.hpp"
+// Runs a simulation (an IsphRun or a DemRun) through a scene: progress and ETA on a
+// terminal, series.csv, HDF5 snapshots, checkpoints, summary.json. A run that fails
+// numerically saves its last good state before the error leaves.
 #include "src/backend.hpp"
-#include "src/metrics.hpp"
+#include "src/checkpoint.hpp"
+#include "src/numerical_error.hpp"
+#include "src/scene.hpp"
 #include "src/snapshot_writer.hpp"
 
 #include <fmt/format.h>
 #include <fmt/os.h>
-#include <unistd.h>
 
-#include <cstdio>
+#include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 namespace dvisph {
 
 struct RunOptions {
   std::string out_dir;
   bool progress = false;  // a progress line on the terminal
+  std::string restart;    // checkpoint to continue from ("" none)
 };
 
 namespace detail {
@@ -27,142 +35,160 @@ inline std::string duration(double s) {
   return fmt::format("{:.0f}h{:02.0f}m", std::floor(s / 3600), std::fmod(s / 60, 60));
 }
 
-template <int D, class Solver>
-void snapshot(const Solver& solver, SnapshotWriter& writer) {
-  const auto& p = solver.particles();
-  const int n = solver.size();
-  auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.x);
-  auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.v);
-  auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.kind);
-  auto id = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.id);
-  auto pr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), solver.pressure());
-  auto rho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), solver.density());
-  std::vector<double> xs(n * D);
-  std::vector<int> kinds(n);
-  SnapshotField vel{"velocity", D, std::vector<double>(n * D)}, pres{"pressure", 1, {}},
-      dens{"density", 1, {}}, ids{"id", 1, {}}, roles{"role", 1, {}};
-  auto role = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), solver.roles());
-  for (int i = 0; i < n; ++i) {
-    for (int k = 0; k < D; ++k) xs[i * D + k] = x(i, k), vel.values[i * D + k] = v(i, k);
-    kinds[i] = static_cast<int>(kind(i));
-    pres.values.push_back(pr(i, 0));
-    dens.values.push_back(rho(i));
-    ids.values.push_back(id(i));
-    roles.values.push_back(static_cast<int>(role(i)));
+// series.csv: a fresh file, or on restart the rows up to the checkpoint's step kept.
+inline std::ofstream open_series(const std::string& path, const std::string& header, long resume_step) {
+  std::vector<std::string> kept;
+  if (resume_step >= 0) {
+    std::ifstream in(path);
+    std::string line;
+    while (std::getline(in, line)) {
+      if (line.empty() || line == header) continue;
+      if (std::stol(line.substr(0, line.find(','))) <= resume_step) kept.push_back(line);
+    }
   }
-  writer.write(solver.info().t, D, xs, {vel, pres, dens, ids, roles}, kinds);
+  std::ofstream out(path, std::ios::trunc);
+  out << header << '\n';
+  for (const auto& l : kept) out << l << '\n';
+  if (!out.flush()) throw std::runtime_error("cannot write " + path);
+  return out;
+}
+
+inline std::string join(const std::vector<std::string>& parts, char sep) {
+  std::string s;
+  for (const auto& p : parts) s += p + sep;
+  return s;
+}
+inline std::vector<std::string> split(const std::string& s, char sep) {
+  std::vector<std::string> parts;
+  std::stringstream ss(s);
+  for (std::string p; std::getline(ss, p, sep);) parts.push_back(p);
+  return parts;
 }
 
 }  // namespace detail
 
-template <int D, class Kernel>
-int run_scene(const Scene& s, const RunOptions& opt) {
-  using Space = Kokkos::DefaultExecutionSpace;
+template <class Sim>
+int run(Sim& sim, const Scene& s, const RunOptions& opt) {
   namespace fs = std::filesystem;
-  IsphSolver<D, Kernel, Space> solver(s);
+  constexpr char record_sep = '\x1e';
+  const std::string out = opt.out_dir;
 
-  fs::create_directories(opt.out_dir);
-  {
-    auto scene_copy = fmt::output_file(opt.out_dir + "/scene.yaml");
-    scene_copy.print("{}\n", s.yaml);
+  // the driver's own state travels in the checkpoint with the simulation's
+  double next_snapshot = 0, next_checkpoint = s.checkpoint_every;
+  SnapshotWriter writer(out);
+  long resume_step = -1;
+  if (!opt.restart.empty()) {
+    const Checkpoint c = Checkpoint::read(opt.restart);
+    if (c.text("run/scene_name") != s.name)
+      throw SceneError(fmt::format("--restart {}: written by scene '{}', not '{}'", opt.restart,
+                                   c.text("run/scene_name"), s.name));
+    sim.restore(c);
+    next_snapshot = c.number("run/next_snapshot");
+    next_checkpoint = c.number("run/next_checkpoint");
+    writer.resume(detail::split(c.text("run/snapshot_index"), record_sep));
+    resume_step = sim.step_count();
   }
-  SnapshotWriter writer(opt.out_dir);
-  auto series = fmt::output_file(opt.out_dir + "/series.csv");
-  series.print("step,t,dt,cg_iterations,cg_residual,max_speed,front,max_density_error\n");
+  auto save = [&](Checkpoint& c) {
+    sim.save(c);
+    c.set_text("run/scene_name", s.name);
+    c.set("run/t", sim.time());
+    c.set_text("run/scene", s.yaml);
+    c.set("run/next_snapshot", next_snapshot);
+    c.set("run/next_checkpoint", next_checkpoint);
+    c.set_text("run/snapshot_index", detail::join(writer.index(), record_sep));
+  };
 
-  const bool dam_break = s.metrics_kind == "dam_break";
-  const double g = std::abs(s.gravity[D - 1]);
-  FrontData front_sim;
-  double max_density_error_seen = 0;
-  long cg_total = 0;
-  int cg_max = 0;
-
-  auto record = [&](const StepInfo& info) {
-    const double front =
-        front_position<Space>(solver.particles().x, solver.particles().kind, solver.size()) -
-        s.tank.lo[0];
-    const double derr =
-        max_density_error<Space>(solver.density(), solver.pressure(), solver.particles().kind,
-                                 solver.reference_density(), solver.size());
-    if (info.step > 0) max_density_error_seen = std::max(max_density_error_seen, derr);
-    series.print("{},{:.9g},{:.6g},{},{:.3g},{:.6g},{:.6g},{:.6g}\n", info.step, info.t, info.dt,
-                 info.cg_iterations, info.cg_residual, info.max_speed, front, derr);
-    if (dam_break) {
-      front_sim.T.push_back(info.t * std::sqrt(2 * g / s.column_width));
-      front_sim.Z.push_back(front / s.column_width);
-    }
+  fs::create_directories(out);
+  {
+    std::ofstream scene_copy(out + "/scene.yaml");
+    scene_copy << s.yaml << '\n';
+    if (!scene_copy.flush()) throw std::runtime_error("cannot write " + out + "/scene.yaml");
+  }
+  auto series = detail::open_series(out + "/series.csv", "step,t,dt," + sim.series_header(), resume_step);
+  auto record = [&] {
+    series << fmt::format("{},{:.9g},{:.6g},{}\n", sim.step_count(), sim.time(), sim.dt(), sim.series_row());
+  };
+  auto flush_series = [&] {
+    if (!series.flush()) throw std::runtime_error("cannot write " + out + "/series.csv (disk full?)");
   };
 
   Kokkos::Timer wall;
-  double next_snapshot = 0, last_progress = -1;
-  detail::snapshot<D>(solver, writer);
-  next_snapshot += s.snapshot_every;
-  record(solver.info());
-  while (solver.info().t < s.end_time - 1e-12) {
-    const StepInfo& info = solver.step();
-    cg_total += info.cg_iterations;
-    cg_max = std::max(cg_max, info.cg_iterations);
-    if (info.step % s.series_every == 0) record(info);
-    if (s.snapshot_every > 0 && info.t >= next_snapshot - 1e-12) {
-      detail::snapshot<D>(solver, writer);
-      next_snapshot += s.snapshot_every;
-      series.flush();
+  const long first_step = sim.step_count();
+  const double first_t = sim.time();
+  double last_progress = -1;
+  if (resume_step < 0) {
+    sim.snapshot(writer);
+    next_snapshot = s.snapshot_every;
+    record();
+  }
+  // the last good state, kept in memory so a failing step can leave it behind
+  Checkpoint good;
+  long good_step = -1;
+  try {
+    while (sim.time() < s.end_time - 1e-12) {
+      if (sim.step_count() - good_step >= sim.steps_between_saves()) {
+        good = Checkpoint();
+        save(good);
+        good_step = sim.step_count();
+      }
+      sim.step();
+      if (sim.step_count() % s.series_every == 0) record();
+      if (s.snapshot_every > 0 && sim.time() >= next_snapshot - 1e-12) {
+        sim.snapshot(writer);
+        next_snapshot += s.snapshot_every;
+        flush_series();
+      }
+      if (s.checkpoint_every > 0 && sim.time() >= next_checkpoint - 1e-12) {
+        next_checkpoint += s.checkpoint_every;
+        flush_series();
+        Checkpoint c;
+        save(c);
+        c.write(out + "/checkpoint.h5");
+      }
+      if (opt.progress && wall.seconds() - last_progress > 0.5) {
+        last_progress = wall.seconds();
+        const double eta =
+            wall.seconds() * (s.end_time - sim.time()) / std::max(sim.time() - first_t, 1e-30);
+        fmt::print(stderr, "\rstep {:7d}  t {:.4f}/{:.4f} s  dt {:.2e} s  {}  ETA {}   ",
+                   sim.step_count(), sim.time(), s.end_time, sim.dt(), sim.progress(),
+                   detail::duration(eta));
+      }
     }
-    if (opt.progress && wall.seconds() - last_progress > 0.5) {
-      last_progress = wall.seconds();
-      const double eta = wall.seconds() * (s.end_time - info.t) / std::max(info.t, 1e-30);
-      fmt::print(stderr, "\rstep {:7d}  t {:.4f}/{:.4f} s  dt {:.2e} s  CG {:4d}  ETA {}   ",
-                 info.step, info.t, s.end_time, info.dt, info.cg_iterations, detail::duration(eta));
-    }
+  } catch (const NumericalError& e) {
+    series.flush();
+    const std::string path = out + "/last_good.h5";
+    good.write(path);
+    throw NumericalError(fmt::format("{}\nthe last good state (step {}, t = {:.6g} s) is in {}; "
+                                     "`dvisph run SCENE --restart {}` continues from it",
+                                     e.what(), good_step, good.number("run/t"), path, path));
   }
   if (opt.progress) fmt::print(stderr, "\n");
-  const StepInfo& info = solver.info();
-  if (info.step % s.series_every != 0) record(info);
-  if (s.snapshot_every == 0 || std::abs(writer.count() * s.snapshot_every - info.t) > 1e-9)
-    detail::snapshot<D>(solver, writer);
-  series.close();
+  if (sim.step_count() % s.series_every != 0) record();
+  if (s.snapshot_every == 0 || std::abs(writer.count() * s.snapshot_every - sim.time()) > 1e-9)
+    sim.snapshot(writer);
+  flush_series();
+  {
+    Checkpoint c;
+    save(c);
+    c.write(out + "/checkpoint.h5");
+  }
 
   const double seconds = wall.seconds();
-  std::string metrics = fmt::format("\"max_density_error\": {:.6g}", max_density_error_seen);
-  if (dam_break) {
-    int points = 0;
-    const auto data = martin_moyce();
-    const double rms = front_rms_deviation(front_sim, data, 1.0, 3.0, &points);
-    const double lag = best_front_lag(front_sim, data, 1.0, 3.0);
-    metrics += fmt::format(
-        ", \"front_rms_deviation_T1_3\": {:.6g}, \"front_points_compared\": {}, "
-        "\"front_best_lag_T\": {:.4g}, \"front_rms_deviation_T1_3_after_lag\": {:.6g}",
-        rms, points, lag, front_rms_deviation(front_sim, data, 1.0, 3.0, nullptr, lag));
-  }
-  if (s.metrics_kind == "hydrostatic") {
-    const auto e = hydrostatic_errors<D>(solver, s);
-    metrics += fmt::format(
-        ", \"pressure_max_error_over_rho_g_H\": {:.6g}, \"pressure_rms_error_over_rho_g_H\": {:.6g}, "
-        "\"pressure_max_pointwise_relative_error\": {:.6g}, \"pressure_particles_checked\": {}",
-        e.max_over_rho_g_H, e.rms_over_rho_g_H, e.max_pointwise, e.checked);
-  }
-  std::string stage_times;
-  for (const auto& st : solver.stages())
-    stage_times += fmt::format("{}\"{}\": {:.4f}", stage_times.empty() ? "" : ", ", st.name, st.seconds);
-
+  const long steps = sim.step_count() - first_step;
+  const double ns = 1e9 * seconds / std::max(1.0, double(steps) * sim.particle_count());
   const auto backend = backend_info();
-  auto summary = fmt::output_file(opt.out_dir + "/summary.json");
-  summary.print(
+  const std::string metrics = sim.metrics();
+  std::ofstream summary(out + "/summary.json");
+  summary << fmt::format(
       "{{\n  \"scene\": \"{}\",\n  \"dimension\": {},\n  \"backend\": \"{}\",\n  \"threads\": {},\n"
-      "  \"kokkos\": \"{}\",\n  \"kernel\": \"{}\",\n  \"particles\": {{\"fluid\": {}, \"wall\": {}, "
-      "\"gate\": {}}},\n  \"steps\": {},\n  \"end_time\": {:.9g},\n  \"wall_seconds\": {:.3f},\n"
-      "  \"ns_per_particle_step\": {:.2f},\n  \"pairs\": {},\n  \"cg_iterations_mean\": {:.2f},\n"
-      "  \"cg_iterations_max\": {},\n  \"stage_seconds\": {{{}}},\n  \"metrics\": {{{}}}\n}}\n",
-      s.name, D, backend.backend, backend.concurrency, backend.kokkos_version, Kernel::name,
-      solver.count(Kind::fluid), solver.count(Kind::wall), solver.count(Kind::gate), info.step,
-      info.t, seconds, 1e9 * seconds / std::max(1.0, double(info.step) * solver.size()),
-      solver.pairs(), double(cg_total) / std::max<long>(1, info.step), cg_max, stage_times, metrics);
-  summary.close();
-  fmt::print("{}: {} steps to t = {:.4g} s in {:.1f} s ({:.0f} ns/particle-step), CG mean {:.1f} "
-             "max {}; {}\n",
-             s.name, info.step, info.t, seconds,
-             1e9 * seconds / std::max(1.0, double(info.step) * solver.size()),
-             double(cg_total) / std::max<long>(1, info.step), cg_max, metrics);
+      "  \"kokkos\": \"{}\",\n  \"restarted_from_step\": {},\n  \"steps\": {},\n"
+      "  \"end_time\": {:.9g},\n  \"wall_seconds\": {:.3f},\n  \"ns_per_particle_step\": {:.2f},\n"
+      "{}  \"metrics\": {{{}}}\n}}\n",
+      s.name, s.dimension, backend.backend, backend.concurrency, backend.kokkos_version, resume_step,
+      sim.step_count(), sim.time(), seconds, ns, sim.summary(), metrics);
+  if (!summary.flush()) throw std::runtime_error("cannot write " + out + "/summary.json");
+  fmt::print("{}: {} steps to t = {:.4g} s in {:.1f} s ({:.0f} ns/particle-step); {}\n", s.name,
+             steps, sim.time(), seconds, ns, metrics);
   return 0;
 }
 

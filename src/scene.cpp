@@ -173,8 +173,74 @@ void check_box(const Box& b, const std::string& path) {
 }
 
 // Checks that need several keys at once.
+void check_solids(const Scene& s) {
+  const auto& b = *s.solids;
+  const double r = 0.5 * b.diameter;
+  if (b.lattice.empty() && b.beads.empty() && b.bed.empty())
+    throw SceneError("solids: no beads; give solids.lattice, solids.beads or solids.bed");
+  // every bead wholly inside the tank and behind the gate
+  auto check_inside = [&](const std::vector<double>& lo, const std::vector<double>& hi,
+                          const std::string& path) {
+    for (int k = 0; k < s.dimension; ++k) {
+      const double top = k == 0 && s.gate ? s.gate->x : s.tank.hi[k];
+      if (lo[k] - r < s.tank.lo[k] - 1e-12 || hi[k] + r > top + 1e-12)
+        throw SceneError(fmt::format("{}: beads of diameter {:g} m at [{:g}, {:g}] m along axis {} "
+                                     "reach outside [{:g}, {:g}] m (the tank{})",
+                                     path, b.diameter, lo[k], hi[k], k, s.tank.lo[k], top,
+                                     k == 0 && s.gate ? " behind the gate" : ""));
+    }
+  };
+  for (std::size_t l = 0; l < b.lattice.size(); ++l) {
+    const auto path = fmt::format("solids.lattice[{}]", l);
+    check_box(b.lattice[l], path);
+    auto inner = b.lattice[l];
+    for (int k = 0; k < s.dimension; ++k) inner.lo[k] += r, inner.hi[k] -= r;
+    for (int k = 0; k < s.dimension; ++k)
+      if (inner.hi[k] < inner.lo[k])
+        throw SceneError(fmt::format("{}: thinner than solids.diameter = {:g} m along axis {}",
+                                     path, b.diameter, k));
+    check_inside(inner.lo, inner.hi, path);
+  }
+  if (b.jitter >= 0.5 * (b.lattice_spacing - 1) && b.jitter > 0)
+    throw SceneError(fmt::format("solids.jitter = {:g}: beads could overlap, must be < "
+                                 "(solids.lattice_spacing - 1) / 2 = {:g}",
+                                 b.jitter, 0.5 * (b.lattice_spacing - 1)));
+  for (std::size_t i = 0; i < b.beads.size(); ++i) {
+    const auto path = fmt::format("solids.beads[{}].position", i);
+    check_inside(b.beads[i].x, b.beads[i].x, path);
+    for (std::size_t j = 0; j < i; ++j) {
+      double d2 = 0;
+      for (int k = 0; k < s.dimension; ++k)
+        d2 += (b.beads[i].x[k] - b.beads[j].x[k]) * (b.beads[i].x[k] - b.beads[j].x[k]);
+      if (d2 < b.diameter * b.diameter * (1 - 1e-12))
+        throw SceneError(fmt::format("{} overlaps solids.beads[{}]", path, j));
+    }
+  }
+}
+
 void check_consistency(const Scene& s) {
   check_box(s.tank, "geometry.tank");
+  if (s.fluid.empty() && !s.solids)
+    throw SceneError("nothing to simulate: give geometry.fluid, solids, or both");
+  if (!s.fluid.empty() && s.solids)
+    throw SceneError("geometry.fluid with solids: the fluid-solid coupling is not built yet; "
+                     "a scene holds fluid or beads");
+  if (s.solids) check_solids(s);
+  if (s.gravity.size() != static_cast<std::size_t>(s.dimension))
+    throw SceneError(fmt::format("material.gravity: needs {} entries", s.dimension));
+  const bool bead_metric = s.metrics_kind.rfind("bead_", 0) == 0;
+  if (bead_metric && !s.solids)
+    throw SceneError(fmt::format("metrics.kind = {}: needs a solids block", s.metrics_kind));
+  if (!bead_metric && s.metrics_kind != "none" && s.fluid.empty())
+    throw SceneError(fmt::format("metrics.kind = {}: needs geometry.fluid", s.metrics_kind));
+  if ((s.metrics_kind == "dam_break" || s.metrics_kind == "bead_collapse") && !(s.column_width > 0))
+    throw SceneError(fmt::format("metrics.column_width: required (> 0 m) when metrics.kind = {}",
+                                 s.metrics_kind));
+  if (s.metrics_kind == "hydrostatic" && !(s.water_height > 0))
+    throw SceneError("metrics.water_height: required (> 0 m) when metrics.kind = hydrostatic");
+  if (s.fluid.empty()) return;  // the rest concerns the fluid
+  if (!(s.spacing > 0))
+    throw SceneError("geometry.spacing: required (> 0 m) when geometry.fluid is given");
   double smallest = 1e300;
   for (int k = 0; k < s.dimension; ++k) smallest = std::min(smallest, s.tank.hi[k] - s.tank.lo[k]);
   if (s.spacing * 2 > smallest)
@@ -209,12 +275,6 @@ void check_consistency(const Scene& s) {
   if (s.gate && !(s.gate->x > s.tank.lo[0] && s.gate->x < s.tank.hi[0]))
     throw SceneError(fmt::format("geometry.gate.x = {:g} m: must lie inside the tank ({:g}, {:g}) m",
                                  s.gate->x, s.tank.lo[0], s.tank.hi[0]));
-  if (s.gravity.size() != static_cast<std::size_t>(s.dimension))
-    throw SceneError(fmt::format("material.gravity: needs {} entries", s.dimension));
-  if (s.metrics_kind == "dam_break" && !(s.column_width > 0))
-    throw SceneError("metrics.column_width: required (> 0 m) when metrics.kind = dam_break");
-  if (s.metrics_kind == "hydrostatic" && !(s.water_height > 0))
-    throw SceneError("metrics.water_height: required (> 0 m) when metrics.kind = hydrostatic");
 }
 
 }  // namespace
@@ -249,11 +309,32 @@ Scene parse_scene(const std::string& yaml_text, const std::vector<std::string>& 
     s.gravity.assign(dim, 0.0);
     s.gravity[dim - 1] = -9.81;
   }
-  s.spacing = r.number("geometry.spacing");
+  if (!r.at("geometry.spacing").IsNull()) s.spacing = r.number("geometry.spacing");
   s.wall_layers = r.integer("geometry.wall_layers");
   s.tank = {r.vec("geometry.tank.lo"), r.vec("geometry.tank.hi")};
   s.open_top = r.at("geometry.tank.open_top").as<bool>();
   for (const auto& b : root["geometry"]["fluid"]) s.fluid.push_back(read_box(b));
+  if (root["solids"]) {
+    Scene::Solids b;
+    b.diameter = r.number("solids.diameter");
+    b.density = r.number("solids.density");
+    b.restitution = r.number("solids.restitution");
+    b.stiffness = r.number("solids.stiffness");
+    b.friction = r.number("solids.friction");
+    b.dt_safety = r.number("solids.dt_safety");
+    b.rotation = r.at("solids.rotation").as<bool>();
+    for (const auto& l : root["solids"]["lattice"]) b.lattice.push_back(read_box(l));
+    b.lattice_spacing = r.number("solids.lattice_spacing");
+    b.jitter = r.number("solids.jitter");
+    b.seed = r.integer("solids.seed");
+    b.count = r.integer("solids.count");
+    for (const auto& one : root["solids"]["beads"])
+      b.beads.push_back({one["position"].as<std::vector<double>>(),
+                         one["velocity"] ? one["velocity"].as<std::vector<double>>()
+                                         : std::vector<double>(dim, 0.0)});
+    if (root["solids"]["bed"]) b.bed = r.text("solids.bed");
+    s.solids = b;
+  }
   if (root["geometry"]["gate"])
     s.gate = Scene::Gate{r.number("geometry.gate.x"), r.number("geometry.gate.remove_at")};
   s.no_slip = r.text("boundary.slip") == "no_slip";
@@ -270,6 +351,7 @@ Scene parse_scene(const std::string& yaml_text, const std::vector<std::string>& 
   s.reorder_every = r.integer("numerics.reorder_every");
   s.snapshot_every = r.number("output.snapshot_every");
   s.series_every = r.integer("output.series_every");
+  s.checkpoint_every = r.number("output.checkpoint_every");
   s.metrics_kind = r.text("metrics.kind");
   s.column_width = r.number("metrics.column_width");
   s.water_height = r.number("metrics.water_height");

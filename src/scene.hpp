@@ -34,6 +34,20 @@ struct Scene {
   };
   std::optional<Gate> gate;
 
+  struct Bead {
+    std::vector<double> x, v;
+  };
+  struct Solids {
+    double diameter, density, restitution, stiffness, friction, dt_safety;
+    bool rotation;
+    std::vector<Box> lattice;
+    double lattice_spacing, jitter;
+    int seed, count;
+    std::vector<Bead> beads;
+    std::string bed;  // checkpoint to start from ("" none)
+  };
+  std::optional<Solids> solids;
+
   bool no_slip = true;
 
   std::string kernel;
@@ -45,6 +59,7 @@ struct Scene {
 
   double snapshot_every = 0;
   int series_every = 1;
+  double checkpoint_every = 0;
 
   std::string metrics_kind = "none";
   double column_width = 0, water_height = 0;

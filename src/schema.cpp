@@ -82,7 +82,8 @@ Field make_schema() {
               "fluid properties"),
           map("geometry", true,
               {
-                  number("spacing", "m", "", 0, inf, "initial particle spacing dx", true),
+                  optional(number("spacing", "m", "", 0, inf,
+                                  "initial fluid particle spacing dx (required with fluid)", true)),
                   integer("wall_layers", "4", 1, 12,
                           "layers of wall particles; at least 2 ceil(2h/dx) - 2 so that wall "
                           "particles near the fluid have full support"),
@@ -93,9 +94,10 @@ Field make_schema() {
                           boolean("open_top", "true", "no wall on the top face"),
                       },
                       "tank: box of wall particles around the fluid"),
-                  list("fluid", true,
+                  list("fluid", false,
                        {vector("lo", "m", "", "lower corner"), vector("hi", "m", "", "upper corner")},
-                       "boxes filled with fluid particles (a list of lo/hi maps)"),
+                       "boxes filled with fluid particles (a list of lo/hi maps); a scene "
+                       "without fluid runs the DEM alone"),
                   map("gate", false,
                       {
                           number("x", "m", "", -inf, inf, "position of the gate plane (first axis)"),
@@ -104,6 +106,40 @@ Field make_schema() {
                       "optional gate: a wall plane across the tank, removed at a given time"),
               },
               "what is where"),
+          map("solids", false,
+              {
+                  number("diameter", "m", "", 0, inf, "bead diameter d", true),
+                  number("density", "kg/m^3", "2500", 0, inf, "bead density", true),
+                  number("restitution", "", "0.9", 0, 1,
+                         "coefficient of restitution e (sets the normal dashpot)", true),
+                  number("stiffness", "N/m", "1000", 0, inf, "normal spring k_n", true),
+                  number("friction", "", "0.2", 0, 10, "Coulomb friction coefficient mu"),
+                  number("dt_safety", "", "0.04", 0, 0.5,
+                         "DEM step over the binary contact time of the lightest pair", true),
+                  boolean("rotation", "true", "false: beads do not rotate (torques ignored)"),
+                  list("lattice", false,
+                       {vector("lo", "m", "", "lower corner"), vector("hi", "m", "", "upper corner")},
+                       "boxes filled with beads on a square lattice, bottom layer first"),
+                  number("lattice_spacing", "", "1.1", 1, 10,
+                         "lattice: distance between bead centres over d"),
+                  number("jitter", "", "0", 0, 0.5,
+                         "lattice: random offset of each bead along each axis, over d; must "
+                         "leave the beads apart (< (lattice_spacing - 1) / 2)"),
+                  integer("seed", "1", 0, 2147483647, "lattice: seed of the jitter"),
+                  integer("count", "0", 0, 1e8,
+                          "lattice: number of beads, filling the boxes from the bottom "
+                          "(0: every lattice site)"),
+                  list("beads", false,
+                       {vector("position", "m", "", "centre"),
+                        optional(vector("velocity", "m/s", "", "initial velocity (default 0)"))},
+                       "single beads (a list of position/velocity maps)"),
+                  optional(choice("bed", "", {},
+                                  "checkpoint (HDF5) of a settled bed to start from, e.g. "
+                                  "out/bead_bed_settle/checkpoint.h5; relative paths are "
+                                  "taken from the working directory")),
+              },
+              "DEM beads (glass beads, method.md section 3); the tank walls and the gate "
+              "are planes for them"),
           map("boundary", false,
               {choice("slip", "no_slip", {"no_slip", "free_slip"},
                       "wall condition for the viscous term")},
@@ -140,11 +176,16 @@ Field make_schema() {
                   number("snapshot_every", "s", "0", 0, inf,
                          "interval between HDF5 snapshots (0: first and last only)"),
                   integer("series_every", "1", 1, 1e9, "steps between rows of series.csv"),
+                  number("checkpoint_every", "s", "0", 0, inf,
+                         "interval between checkpoints, for `dvisph run --restart` (0: at the "
+                         "end only); each replaces checkpoint.h5 whole"),
               },
               "what is written"),
           map("metrics", false,
               {
-                  choice("kind", "none", {"none", "hydrostatic", "dam_break"},
+                  choice("kind", "none",
+                         {"none", "hydrostatic", "dam_break", "bead_drop", "bead_collision",
+                          "bead_slide", "bead_bed", "bead_collapse"},
                          "scene-specific figures in summary.json"),
                   number("column_width", "m", "0", 0, inf,
                          "dam_break: width a of the initial water column (Z = z/a, "

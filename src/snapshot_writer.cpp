@@ -65,10 +65,22 @@ void SnapshotWriter::write(double t, int dim, const std::vector<double>& x,
   std::error_code ec;
   std::filesystem::rename(tmp, path, ec);
   if (ec) throw std::runtime_error(fmt::format("cannot rename {} to {}: {}", tmp, path, ec.message()));
-  Entry e{name, t, n, dim, {}};
-  for (const auto& f : fields) e.fields.emplace_back(f.name, f.components);
-  e.fields.emplace_back("kind", -1);
-  entries_.push_back(std::move(e));
+  std::string grid = fmt::format(
+      "<Grid Name=\"{}\" GridType=\"Uniform\">\n<Time Value=\"{:.9g}\"/>\n"
+      "<Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\"/>\n"
+      "<Geometry GeometryType=\"{}\">\n<DataItem Dimensions=\"{} {}\" NumberType=\"Float\" "
+      "Precision=\"8\" Format=\"HDF\">{}:/x</DataItem>\n</Geometry>\n",
+      name, t, n, dim == 2 ? "XY" : "XYZ", n, dim, name);
+  auto attribute = [&](const std::string& field, int c, bool is_int) {
+    grid += fmt::format("<Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\">\n<DataItem "
+                        "Dimensions=\"{}{}\" NumberType=\"{}\" Precision=\"{}\" Format=\"HDF\">{}:/{}"
+                        "</DataItem>\n</Attribute>\n",
+                        field, c == 1 ? "Scalar" : "Vector", n, c == 1 ? "" : fmt::format(" {}", c),
+                        is_int ? "Int" : "Float", is_int ? 4 : 8, name, field);
+  };
+  for (const auto& f : fields) attribute(f.name, f.components, false);
+  attribute("kind", 1, true);
+  index_.push_back(grid + "</Grid>\n");
   write_index();
 }
 
@@ -78,23 +90,7 @@ void SnapshotWriter::write_index() const {
     auto out = fmt::output_file(tmp);
     out.print("<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
               "<Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
-    for (const auto& e : entries_) {
-      out.print("<Grid Name=\"{}\" GridType=\"Uniform\">\n<Time Value=\"{:.9g}\"/>\n", e.file, e.t);
-      out.print("<Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\"/>\n", e.n);
-      out.print("<Geometry GeometryType=\"{}\">\n<DataItem Dimensions=\"{} {}\" NumberType=\"Float\" "
-                "Precision=\"8\" Format=\"HDF\">{}:/x</DataItem>\n</Geometry>\n",
-                e.dim == 2 ? "XY" : "XYZ", e.n, e.dim, e.file);
-      for (const auto& [name, comps] : e.fields) {
-        const bool is_int = comps < 0;
-        const int c = is_int ? 1 : comps;
-        out.print("<Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\">\n<DataItem "
-                  "Dimensions=\"{}{}\" NumberType=\"{}\" Precision=\"{}\" Format=\"HDF\">{}:/{}"
-                  "</DataItem>\n</Attribute>\n",
-                  name, c == 1 ? "Scalar" : "Vector", e.n, c == 1 ? "" : fmt::format(" {}", c),
-                  is_int ? "Int" : "Float", is_int ? 4 : 8, e.file, name);
-      }
-      out.print("</Grid>\n");
-    }
+    for (const auto& grid : index_) out.print("{}", grid);
     out.print("</Grid>\n</Domain>\n</Xdmf>\n");
   }
   std::error_code ec;

@@ -19,19 +19,15 @@ class SnapshotWriter {
   // Positions (n x dim) and fields; throws std::runtime_error naming the file on failure.
   void write(double t, int dim, const std::vector<double>& x, const std::vector<SnapshotField>& fields,
              const std::vector<int>& kind);
-  int count() const { return static_cast<int>(entries_.size()); }
+  int count() const { return static_cast<int>(index_.size()); }
+  // The XDMF entries so far; a restarted run resumes from them and numbers on.
+  const std::vector<std::string>& index() const { return index_; }
+  void resume(std::vector<std::string> index) { index_ = std::move(index); }
 
  private:
-  struct Entry {
-    std::string file;
-    double t;
-    long n;
-    int dim;
-    std::vector<std::pair<std::string, int>> fields;
-  };
   void write_index() const;
   std::string dir_;
-  std::vector<Entry> entries_;
+  std::vector<std::string> index_;  // one XDMF grid per snapshot
 };
 
 }  // namespace dvisph

@@ -245,7 +245,7 @@ TEST_CASE("contact history survives reordering mid-contact", "[dem]") {
       if (n == 500 && how == Reorder::with_history) dem.permute(reverse);
       if (n == 900 && how == Reorder::with_history) dem.reorder();
       if (n == 500 && how == Reorder::naive)  // the beads move, their history rows do not
-        s.for_each_field([&](auto& field) {
+        s.for_each_field([&](const char*, auto& field) {
           using V = std::decay_t<decltype(field)>;
           const V tmp("tmp", field.layout());
           gather_rows<TestSpace>(tmp, field, reverse);

@@ -7,6 +7,7 @@
 // writes a new one holding exactly the contacts alive now; looking partners up by id
 // keeps the history right when partners change cells or the particle order changes.
 // A contact that does not fit is counted; the solver reports the count as an error.
+#include "src/checkpoint.hpp"
 #include "src/types.hpp"
 
 #include <string>
@@ -78,6 +79,18 @@ class ContactHistory {
     int h = 0;
     Kokkos::deep_copy(h, overflow_);
     return h;
+  }
+
+  // The current table (the next is rewritten before it is read).
+  void save(Checkpoint& c, const std::string& prefix) const {
+    c.put(prefix + "count", current_.count);
+    c.put(prefix + "partner", current_.partner);
+    c.put(prefix + "xi", current_.xi);
+  }
+  void restore(const Checkpoint& c, const std::string& prefix) {
+    c.get(prefix + "count", current_.count);
+    c.get(prefix + "partner", current_.partner);
+    c.get(prefix + "xi", current_.xi);
   }
 
   // Row perm(a) of the current table becomes row a, as the particles are reordered.

@@ -12,6 +12,8 @@
 #include "src/neighbor_sweep.hpp"
 #include "src/reorder.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -87,6 +89,7 @@ class DemSolver {
   }
 
   Spheres<D, Space>& spheres() { return spheres_; }
+  const Spheres<D, Space>& spheres() const { return spheres_; }
   const std::vector<PlaneWall<D>>& walls() const { return walls_; }
   const Law& law() const { return law_; }
   Real time() const { return time_; }
@@ -113,13 +116,37 @@ class DemSolver {
   // Bead perm(a) becomes bead a, every per-bead field in place (views stay valid).
   template <class Perm>
   void permute(const Perm& perm) {
-    spheres_.for_each_field([&](auto& field) {
+    spheres_.for_each_field([&](const char*, auto& field) {
       using V = std::decay_t<decltype(field)>;
       const V tmp(Kokkos::view_alloc(Kokkos::WithoutInitializing, field.label()), field.layout());
       gather_rows<Space>(tmp, field, perm);
       Kokkos::deep_copy(field, tmp);
     });
     history_.permute(perm);
+    cells_.build(spheres_.x, spheres_.n);
+  }
+
+  // The whole state (beads in their current order, contact history, open gates, clock,
+  // the forces velocity Verlet carries into the next step): restoring it continues a
+  // run bit-identically. (A bed loaded into another scene takes the beads alone:
+  // read_spheres.)
+  void save(Checkpoint& c) const {
+    auto s = spheres_;
+    s.for_each_field([&](const char* name, const auto& field) { c.put(std::string("dem/") + name, field); });
+    history_.save(c, "dem/history/");
+    for (std::size_t w = 0; w < walls_.size(); ++w)
+      c.set(fmt::format("dem/wall_{}_active", w), walls_[w].active);
+    c.set("dem/t", time_);
+    c.set("dem/forces_ready", forces_ready_);
+  }
+  void restore(const Checkpoint& c) {
+    spheres_.for_each_field([&](const char* name, auto& field) { c.get(std::string("dem/") + name, field); });
+    history_.restore(c, "dem/history/");
+    for (std::size_t w = 0; w < walls_.size(); ++w)
+      walls_[w].active = c.number(fmt::format("dem/wall_{}_active", w)) != 0;
+    upload_walls();
+    time_ = c.number("dem/t");
+    forces_ready_ = c.number("dem/forces_ready") != 0;
     cells_.build(spheres_.x, spheres_.n);
   }
 

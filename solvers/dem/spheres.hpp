@@ -3,6 +3,7 @@
 // plane, so mass and inertia stay those of a sphere). `id` is the index at creation and
 // survives reordering: contact history refers to partners by it.
 #include "solvers/dem/rotation.hpp"
+#include "src/checkpoint.hpp"
 
 #include <string>
 #include <vector>
@@ -71,20 +72,32 @@ struct Spheres {
         });
   }
 
-  // Calls f(view) on every per-particle view (for reordering).
+  // Calls f(name, view) on every per-bead view (for reordering and checkpoints).
   template <class F>
   void for_each_field(F&& f) {
-    f(x);
-    f(v);
-    f(omega);
-    f(radius);
-    f(mass);
-    f(inertia);
-    f(id);
-    f(f_ext);
-    f(force);
-    f(torque);
+    f("x", x);
+    f("v", v);
+    f("omega", omega);
+    f("radius", radius);
+    f("mass", mass);
+    f("inertia", inertia);
+    f("id", id);
+    f("f_ext", f_ext);
+    f("force", force);
+    f("torque", torque);
   }
 };
+
+// The beads of a checkpoint written by DemSolver::save (e.g. a settled bed), with
+// their velocities; forces from outside cleared.
+template <int D, class Space>
+Spheres<D, Space> read_spheres(const Checkpoint& c) {
+  Spheres<D, Space> s(static_cast<int>(c.extents("dem/x").at(0)));
+  if (c.extents("dem/x").at(1) != static_cast<std::size_t>(D))
+    throw std::runtime_error("checkpoint: beads of another dimension");
+  s.for_each_field([&](const char* name, auto& field) { c.get(std::string("dem/") + name, field); });
+  Kokkos::deep_copy(s.f_ext, 0);
+  return s;
+}
 
 }  // namespace dvisph::dem

@@ -10,6 +10,8 @@
 #include "solvers/isph/roles.hpp"
 #include "solvers/pcg.hpp"
 #include "src/neighbor_list.hpp"
+#include "src/numerical_error.hpp"
+#include "src/checkpoint.hpp"
 #include "src/particles.hpp"
 #include "src/reorder.hpp"
 #include "src/scene_particles.hpp"
@@ -22,11 +24,6 @@
 #include <vector>
 
 namespace dvisph {
-
-// A run that cannot go on: NaN, a particle out of the domain, CG not converged.
-struct NumericalError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 struct StepInfo {
   long step = 0;
@@ -111,6 +108,43 @@ class IsphSolver {
   long pairs() const { return list_.pairs(); }
   const Kernel& kernel() const { return kernel_; }
   const Scene& scene() const { return scene_; }
+
+  // The state a step reads (the particles in their current order, the pressure that
+  // warm-starts CG, the clock): restoring it continues a run bit-identically.
+  void save(Checkpoint& c) const {
+    const auto rows = Kokkos::make_pair(0, n_);
+    c.put("sph/x", Kokkos::subview(p_.x, rows, Kokkos::ALL));
+    c.put("sph/v", Kokkos::subview(p_.v, rows, Kokkos::ALL));
+    c.put("sph/m", Kokkos::subview(p_.m, rows));
+    c.put("sph/kind", Kokkos::subview(p_.kind, rows));
+    c.put("sph/id", Kokkos::subview(p_.id, rows));
+    c.put("sph/pressure", Kokkos::subview(pressure_, rows, Kokkos::ALL));
+    c.set("sph/step", static_cast<double>(info_.step));
+    c.set("sph/t", info_.t);
+    c.set("sph/dt", info_.dt);
+    c.set("sph/max_speed", info_.max_speed);
+    c.set("sph/gate_removed", gate_removed_);
+  }
+  void restore(const Checkpoint& c) {
+    const int n = static_cast<int>(c.extents("sph/x").at(0));
+    if (n > static_cast<int>(p_.x.extent(0)))
+      throw std::runtime_error("checkpoint: more particles than the scene makes");
+    n_ = p_.n = n;
+    const auto rows = Kokkos::make_pair(0, n_);
+    c.get("sph/x", Kokkos::subview(p_.x, rows, Kokkos::ALL));
+    c.get("sph/v", Kokkos::subview(p_.v, rows, Kokkos::ALL));
+    c.get("sph/m", Kokkos::subview(p_.m, rows));
+    c.get("sph/kind", Kokkos::subview(p_.kind, rows));
+    c.get("sph/id", Kokkos::subview(p_.id, rows));
+    c.get("sph/pressure", Kokkos::subview(pressure_, rows, Kokkos::ALL));
+    info_ = StepInfo{};
+    info_.step = static_cast<long>(c.number("sph/step"));
+    info_.t = c.number("sph/t");
+    info_.dt = c.number("sph/dt");
+    info_.max_speed = c.number("sph/max_speed");
+    gate_removed_ = c.number("sph/gate_removed") != 0;
+    count_kinds();
+  }
 
  private:
   void build_stages() {

@@ -1,0 +1,270 @@
+#pragma once
+// The DEM alone as a run (src/run.hpp), for scenes without fluid: one DEM step per
+// step. Figures by metrics.kind: bead_drop (rebound restitution), bead_collision
+// (momentum, restitution), bead_slide (rolling speed or stop distance), bead_bed
+// (packing fraction, bed height) and bead_collapse (bead front); energy throughout.
+#include "src/numerical_error.hpp"
+#include "src/scene_beads.hpp"
+#include "src/snapshot_writer.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace dvisph {
+
+template <int D, class Space = Kokkos::DefaultExecutionSpace>
+class DemRun {
+ public:
+  explicit DemRun(const Scene& s)
+      : s_(s), dem_(scene_dem<D, Space>(s)), g_(std::abs(s.gravity[D - 1])) {
+    const bool few = s.metrics_kind == "bead_drop" || s.metrics_kind == "bead_collision" ||
+                     s.metrics_kind == "bead_slide";
+    if (few && dem_.spheres().n > 2)
+      throw SceneError(fmt::format("metrics.kind = {}: follows one or two beads, the scene has {}",
+                                   s.metrics_kind, dem_.spheres().n));
+    watch_ = few;
+    if (watch_) {
+      auto m = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), dem_.spheres().mass);
+      mass_ = m(0);  // the scene's beads are alike
+      const auto b = beads();
+      p0_ = momentum(b);
+      v0_ = std::sqrt(dot(b.v[0], b.v[0]));
+      x0_ = b.x[0];
+      if (b.v.size() == 2) dv0_ = b.v[1][0] - b.v[0][0];
+    }
+    energy0_ = last_energy_ = dem_.energy().total();
+  }
+
+  void step() {
+    try {
+      dem_.step(dem_.time_step());
+    } catch (const std::runtime_error& e) {
+      throw NumericalError(fmt::format("step {}, t = {:.6g} s: {}", step_ + 1, time(), e.what()));
+    }
+    ++step_;
+    if (watch_) follow();
+  }
+  long step_count() const { return step_; }
+  double time() const { return dem_.time(); }
+  double dt() const { return dem_.time_step(); }
+  long particle_count() const { return dem_.spheres().n; }
+  // a DEM step is cheap next to a copy of the whole state
+  long steps_between_saves() const { return 100; }
+  std::string progress() const { return fmt::format("{} beads", dem_.spheres().n); }
+
+  std::string series_header() const { return "kinetic_energy,total_energy,max_speed,front,bed_top"; }
+  std::string series_row() {
+    const dem::Energy e = dem_.energy();
+    if (step_ > 0) energy_rise_ = std::max(energy_rise_, e.total() - last_energy_);
+    last_energy_ = e.total();
+    const auto& sp = dem_.spheres();
+    const auto x = sp.x, v = sp.v;
+    const auto r = sp.radius;
+    Real speed = 0, front = -1e300, top = -1e300;
+    Kokkos::parallel_reduce(
+        "dvisph::dem_run::extent", Kokkos::RangePolicy<Space>(0, sp.n),
+        KOKKOS_LAMBDA(int i, Real& s, Real& f, Real& t) {
+          Real v2 = 0;
+          for (int k = 0; k < D; ++k) v2 += v(i, k) * v(i, k);
+          s = math::max(s, math::sqrt(v2));
+          f = math::max(f, x(i, 0) + r(i));
+          t = math::max(t, x(i, D - 1) + r(i));
+        },
+        Kokkos::Max<Real>(speed), Kokkos::Max<Real>(front), Kokkos::Max<Real>(top));
+    front -= s_.tank.lo[0];
+    if (s_.metrics_kind == "bead_collapse") {
+      collapse_T_ = time() * std::sqrt(2 * g_ / s_.column_width);
+      collapse_Z_ = front / s_.column_width;
+    }
+    return fmt::format("{:.9g},{:.9g},{:.6g},{:.6g},{:.6g}", e.kinetic, e.total(), speed, front,
+                       top - s_.tank.lo[D - 1]);
+  }
+
+  void snapshot(SnapshotWriter& writer) const {
+    const auto& sp = dem_.spheres();
+    auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.x);
+    auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.v);
+    auto w = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.omega);
+    auto r = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.radius);
+    auto id = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.id);
+    constexpr int R = dem::rot_dim<D>;
+    const int n = sp.n;
+    std::vector<double> xs(n * D);
+    SnapshotField vel{"velocity", D, std::vector<double>(n * D)},
+        omega{"angular_velocity", R, std::vector<double>(n * R)}, radius{"radius", 1, {}},
+        ids{"id", 1, {}};
+    for (int i = 0; i < n; ++i) {
+      for (int k = 0; k < D; ++k) xs[i * D + k] = x(i, k), vel.values[i * D + k] = v(i, k);
+      for (int c = 0; c < R; ++c) omega.values[i * R + c] = w(i, c);
+      radius.values.push_back(r(i));
+      ids.values.push_back(id(i));
+    }
+    writer.write(time(), D, xs, {vel, omega, radius, ids},
+                 std::vector<int>(n, static_cast<int>(Kind::solid)));
+  }
+
+  void save(Checkpoint& c) const {
+    dem_.save(c);
+    c.set("dem_run/step", static_cast<double>(step_));
+    c.set("dem_run/energy_rise", energy_rise_);
+    c.set("dem_run/last_energy", last_energy_);
+    c.set("dem_run/contact", contact_);
+    c.set("dem_run/v_in", v_in_);
+    c.set("dem_run/v_out", v_out_);
+    c.set("dem_run/t_in", t_in_);
+    c.set("dem_run/t_out", t_out_);
+    c.set("dem_run/stopped_at", stopped_at_);
+  }
+  void restore(const Checkpoint& c) {
+    dem_.restore(c);
+    step_ = static_cast<long>(c.number("dem_run/step"));
+    energy_rise_ = c.number("dem_run/energy_rise");
+    last_energy_ = c.number("dem_run/last_energy");
+    contact_ = static_cast<int>(c.number("dem_run/contact"));
+    v_in_ = c.number("dem_run/v_in");
+    v_out_ = c.number("dem_run/v_out");
+    t_in_ = c.number("dem_run/t_in");
+    t_out_ = c.number("dem_run/t_out");
+    stopped_at_ = c.number("dem_run/stopped_at");
+  }
+
+  std::string summary() const {
+    const auto& b = *s_.solids;
+    return fmt::format(
+        "  \"particles\": {{\"solid\": {}}},\n  \"dem\": {{\"dt\": {:.6g}, \"contact_time\": {:.6g}, "
+        "\"contacts_per_bead\": {:.3f}}},\n",
+        dem_.spheres().n, dem_.time_step(), dem_.time_step() / b.dt_safety, dem_.contacts_per_bead());
+  }
+
+  std::string metrics() const {
+    const auto& b = *s_.solids;
+    std::string m = fmt::format("\"energy_initial\": {:.9g}, \"energy_largest_rise\": {:.3g}",
+                                energy0_, energy_rise_);
+    const auto& kind = s_.metrics_kind;
+    if (kind == "bead_drop" && contact_ == 2)
+      m += fmt::format(", \"restitution_set\": {:g}, \"impact_speed\": {:.6g}, \"rebound_speed\": "
+                       "{:.6g}, \"contact_duration\": {:.6g}, \"restitution\": {:.6g}",
+                       b.restitution, v_in_, v_out_, t_out_ - t_in_, v_out_ / v_in_);
+    if (kind == "bead_collision") {
+      const auto beads_now = beads();
+      const Vec<D> p = momentum(beads_now);
+      Real scale = 0;
+      for (std::size_t i = 0; i < beads_now.v.size(); ++i)
+        scale += mass_ * std::sqrt(dot(beads_now.v[i], beads_now.v[i]));
+      const Vec<D> dp = p - p0_;
+      const Real dv = beads_now.v.size() == 2 ? beads_now.v[1][0] - beads_now.v[0][0] : 0;
+      m += fmt::format(", \"momentum_change_relative\": {:.3g}, \"restitution_set\": {:g}, "
+                       "\"restitution\": {:.6g}",
+                       std::sqrt(dot(dp, dp)) / scale, b.restitution, -dv / dv0_);
+    }
+    if (kind == "bead_slide") {
+      const auto now = beads();
+      const Real v = std::sqrt(dot(now.v[0], now.v[0]));
+      if (b.rotation)
+        m += fmt::format(", \"launch_speed\": {:.6g}, \"final_speed\": {:.6g}, "
+                         "\"final_over_launch\": {:.6g}, \"expected_over_launch\": {:.6g}",
+                         v0_, v, v / v0_, 5.0 / 7.0);
+      else {
+        const Vec<D> d = now.x[0] - x0_;
+        m += fmt::format(", \"launch_speed\": {:.6g}, \"stop_distance\": {:.6g}, "
+                         "\"expected_stop_distance\": {:.6g}, \"stopped_at\": {:.6g}",
+                         v0_, std::sqrt(dot(d, d)), v0_ * v0_ / (2 * b.friction * g_), stopped_at_);
+      }
+    }
+    if (kind == "bead_bed") m += bed_figures();
+    if (kind == "bead_collapse")
+      m += fmt::format(", \"front_T\": {:.4g}, \"front_Z\": {:.4g}", collapse_T_, collapse_Z_);
+    return m;
+  }
+
+ private:
+  struct HostBeads {
+    std::vector<Vec<D>> x, v;
+  };
+  HostBeads beads() const {
+    const auto& sp = dem_.spheres();
+    auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.x);
+    auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.v);
+    auto id = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.id);
+    HostBeads b{std::vector<Vec<D>>(sp.n), std::vector<Vec<D>>(sp.n)};
+    for (int i = 0; i < sp.n; ++i)
+      for (int k = 0; k < D; ++k) b.x[id(i)][k] = x(i, k), b.v[id(i)][k] = v(i, k);
+    return b;
+  }
+  Vec<D> momentum(const HostBeads& b) const {
+    Vec<D> p = Vec<D>::zero();
+    for (const auto& v : b.v) p += mass_ * v;
+    return p;
+  }
+
+  // bead_drop: the first impact on the floor, measured at step resolution; bead_slide
+  // without rotation: when the bead stops.
+  void follow() {
+    const auto b = beads();
+    const Real gap = b.x[0][D - 1] - 0.5 * s_.solids->diameter - s_.tank.lo[D - 1];
+    if (s_.metrics_kind == "bead_drop") {
+      if (contact_ == 0 && gap < 0) contact_ = 1, t_in_ = time();
+      else if (contact_ == 0) v_in_ = -b.v[0][D - 1];
+      else if (contact_ == 1 && gap >= 0) contact_ = 2, t_out_ = time(), v_out_ = b.v[0][D - 1];
+    }
+    if (s_.metrics_kind == "bead_slide" && stopped_at_ < 0 && dot(b.v[0], b.v[0]) < 1e-12)
+      stopped_at_ = time();
+  }
+
+  // Packing fraction in the core of the bed (two diameters from the side walls, the
+  // floor and the surface) and the height the beads would fill at that packing.
+  std::string bed_figures() const {
+    const auto b = beads();
+    const Real d = s_.solids->diameter, r = 0.5 * d;
+    const Real vol = D == 3 ? math::pi / 6 * d * d * d : math::pi / 4 * d * d;  // per bead
+    Real top = -1e300;
+    for (const auto& x : b.x) top = std::max(top, x[D - 1] + r);
+    Vec<D> lo = to_vec<D>(s_.tank.lo), hi = to_vec<D>(s_.tank.hi);
+    hi[D - 1] = top;
+    Real core = 1, footprint = 1;
+    Vec<D> clo, chi;
+    for (int k = 0; k < D; ++k) {
+      clo[k] = lo[k] + 2 * d;
+      chi[k] = hi[k] - 2 * d;
+      core *= chi[k] - clo[k];
+      if (k < D - 1) footprint *= hi[k] - lo[k];
+    }
+    // volume of the beads inside the core box, by sampling each bead's slab overlap
+    // along the vertical (exact for the side faces to within one bead per face)
+    Real inside = 0;
+    for (const auto& x : b.x) {
+      bool in = true;
+      for (int k = 0; k < D - 1; ++k) in = in && x[k] >= clo[k] && x[k] <= chi[k];
+      if (!in) continue;
+      const Real a = std::clamp((x[D - 1] - clo[D - 1]) / r, -1.0, 1.0);
+      const Real c = std::clamp((chi[D - 1] - x[D - 1]) / r, -1.0, 1.0);
+      // fraction of a sphere (3D) or disc (2D) between heights -a r.. c r from its centre
+      auto below = [](Real z) {  // fraction below z r, z in [-1, 1]
+        return D == 3 ? 0.25 * (z + 1) * (z + 1) * (2 - z)
+                      : (z * std::sqrt(1 - z * z) + std::asin(z) + 0.5 * math::pi) / math::pi;
+      };
+      inside += vol * (below(c) - below(-a));
+    }
+    const Real phi = inside / core;
+    const Real height = b.x.size() * vol / (phi * footprint);
+    return fmt::format(", \"beads\": {}, \"packing_fraction_core\": {:.4f}, \"bed_height\": {:.5g}, "
+                       "\"bed_top\": {:.5g}",
+                       b.x.size(), phi, height, top - lo[D - 1]);
+  }
+
+  Scene s_;
+  dem::DemSolver<D, Space> dem_;
+  Real g_;
+  long step_ = 0;
+  bool watch_ = false;
+  Real energy0_ = 0, last_energy_ = 0, energy_rise_ = 0;
+  Vec<D> p0_ = Vec<D>::zero(), x0_ = Vec<D>::zero();
+  Real v0_ = 0, dv0_ = 0, mass_ = 0;
+  int contact_ = 0;  // bead_drop: 0 falling, 1 touching the floor, 2 rebounded
+  Real v_in_ = 0, v_out_ = 0, t_in_ = 0, t_out_ = 0, stopped_at_ = -1;
+  Real collapse_T_ = 0, collapse_Z_ = 0;
+};
+
+}  // namespace dvisph

@@ -1,0 +1,149 @@
+#pragma once
+// The ISPH solver as a run (src/run.hpp): what series.csv, the snapshots and
+// summary.json hold for a water scene, and the scene's own figures (hydrostatic
+// pressure, dam-break front against Martin & Moyce, density error).
+#include "solvers/isph/isph_solver.hpp"
+#include "src/metrics.hpp"
+#include "src/snapshot_writer.hpp"
+
+#include <fmt/format.h>
+
+namespace dvisph {
+
+template <int D, class Kernel, class Space = Kokkos::DefaultExecutionSpace>
+class IsphRun {
+ public:
+  explicit IsphRun(const Scene& s)
+      : s_(s), solver_(s), g_(std::abs(s.gravity[D - 1])), dam_break_(s.metrics_kind == "dam_break") {}
+
+  void step() {
+    const StepInfo& info = solver_.step();
+    cg_total_ += info.cg_iterations;
+    cg_max_ = std::max(cg_max_, info.cg_iterations);
+  }
+  long step_count() const { return solver_.info().step; }
+  double time() const { return solver_.info().t; }
+  double dt() const { return solver_.info().dt; }
+  long particle_count() const { return solver_.size(); }
+  // a step is costly: keep every step's start as the last good state
+  long steps_between_saves() const { return 1; }
+  std::string progress() const { return fmt::format("CG {:4d}", solver_.info().cg_iterations); }
+
+  std::string series_header() const { return "cg_iterations,cg_residual,max_speed,front,max_density_error"; }
+  std::string series_row() {
+    const auto& p = solver_.particles();
+    const auto& info = solver_.info();
+    const double front = front_position<Space>(p.x, p.kind, solver_.size()) - s_.tank.lo[0];
+    const double derr = max_density_error<Space>(solver_.density(), solver_.pressure(), p.kind,
+                                                 solver_.reference_density(), solver_.size());
+    if (info.step > 0) max_density_error_ = std::max(max_density_error_, derr);
+    if (dam_break_) {
+      front_.T.push_back(info.t * std::sqrt(2 * g_ / s_.column_width));
+      front_.Z.push_back(front / s_.column_width);
+    }
+    return fmt::format("{},{:.3g},{:.6g},{:.6g},{:.6g}", info.cg_iterations, info.cg_residual,
+                       info.max_speed, front, derr);
+  }
+
+  void snapshot(SnapshotWriter& writer) const {
+    const auto& p = solver_.particles();
+    const int n = solver_.size();
+    auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.x);
+    auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.v);
+    auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.kind);
+    auto id = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.id);
+    auto pr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), solver_.pressure());
+    auto rho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), solver_.density());
+    auto role = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), solver_.roles());
+    std::vector<double> xs(n * D);
+    std::vector<int> kinds(n);
+    SnapshotField vel{"velocity", D, std::vector<double>(n * D)}, pres{"pressure", 1, {}},
+        dens{"density", 1, {}}, ids{"id", 1, {}}, roles{"role", 1, {}};
+    for (int i = 0; i < n; ++i) {
+      for (int k = 0; k < D; ++k) xs[i * D + k] = x(i, k), vel.values[i * D + k] = v(i, k);
+      kinds[i] = static_cast<int>(kind(i));
+      pres.values.push_back(pr(i, 0));
+      dens.values.push_back(rho(i));
+      ids.values.push_back(id(i));
+      roles.values.push_back(static_cast<int>(role(i)));
+    }
+    writer.write(solver_.info().t, D, xs, {vel, pres, dens, ids, roles}, kinds);
+  }
+
+  void save(Checkpoint& c) const {
+    solver_.save(c);
+    c.set("isph_run/cg_total", static_cast<double>(cg_total_));
+    c.set("isph_run/cg_max", cg_max_);
+    c.set("isph_run/max_density_error", max_density_error_);
+    c.put("isph_run/front_T", host_view(front_.T));
+    c.put("isph_run/front_Z", host_view(front_.Z));
+  }
+  void restore(const Checkpoint& c) {
+    solver_.restore(c);
+    cg_total_ = static_cast<long>(c.number("isph_run/cg_total"));
+    cg_max_ = static_cast<int>(c.number("isph_run/cg_max"));
+    max_density_error_ = c.number("isph_run/max_density_error");
+    for (auto* v : {&front_.T, &front_.Z}) {
+      const std::string name = v == &front_.T ? "isph_run/front_T" : "isph_run/front_Z";
+      v->resize(c.extents(name).at(0));
+      c.get(name, host_view(*v));
+    }
+  }
+
+  std::string summary() const {
+    std::string stage_times;
+    for (const auto& st : solver_.stages())
+      stage_times += fmt::format("{}\"{}\": {:.4f}", stage_times.empty() ? "" : ", ", st.name, st.seconds);
+    const long steps = std::max(1L, solver_.info().step);
+    return fmt::format(
+        "  \"kernel\": \"{}\",\n  \"particles\": {{\"fluid\": {}, \"wall\": {}, \"gate\": {}}},\n"
+        "  \"pairs\": {},\n  \"cg_iterations_mean\": {:.2f},\n  \"cg_iterations_max\": {},\n"
+        "  \"stage_seconds\": {{{}}},\n",
+        Kernel::name, solver_.count(Kind::fluid), solver_.count(Kind::wall),
+        solver_.count(Kind::gate), solver_.pairs(), double(cg_total_) / steps, cg_max_, stage_times);
+  }
+
+  std::string metrics() const {
+    std::string m = fmt::format("\"max_density_error\": {:.6g}", max_density_error_);
+    if (dam_break_) {
+      int points = 0;
+      const auto data = martin_moyce();
+      const double rms = front_rms_deviation(front_, data, 1.0, 3.0, &points);
+      const double lag = best_front_lag(front_, data, 1.0, 3.0);
+      m += fmt::format(
+          ", \"front_rms_deviation_T1_3\": {:.6g}, \"front_points_compared\": {}, "
+          "\"front_best_lag_T\": {:.4g}, \"front_rms_deviation_T1_3_after_lag\": {:.6g}",
+          rms, points, lag, front_rms_deviation(front_, data, 1.0, 3.0, nullptr, lag));
+    }
+    if (s_.metrics_kind == "hydrostatic") {
+      const auto e = hydrostatic_errors<D>(solver_, s_);
+      m += fmt::format(
+          ", \"pressure_max_error_over_rho_g_H\": {:.6g}, \"pressure_rms_error_over_rho_g_H\": "
+          "{:.6g}, \"pressure_max_pointwise_relative_error\": {:.6g}, "
+          "\"pressure_particles_checked\": {}",
+          e.max_over_rho_g_H, e.rms_over_rho_g_H, e.max_pointwise, e.checked);
+    }
+    return m;
+  }
+
+ private:
+  template <class T>
+  static auto host_view(std::vector<T>& v) {
+    return Kokkos::View<T*, Kokkos::HostSpace, Kokkos::MemoryUnmanaged>(v.data(), v.size());
+  }
+  template <class T>
+  static auto host_view(const std::vector<T>& v) {
+    return Kokkos::View<const T*, Kokkos::HostSpace, Kokkos::MemoryUnmanaged>(v.data(), v.size());
+  }
+
+  Scene s_;
+  IsphSolver<D, Kernel, Space> solver_;
+  double g_;
+  bool dam_break_;
+  FrontData front_;
+  double max_density_error_ = 0;
+  long cg_total_ = 0;
+  int cg_max_ = 0;
+};
+
+}  // namespace dvisph

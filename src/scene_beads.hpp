@@ -1,0 +1,94 @@
+#pragma once
+// The DEM side of a scene (setup only): beads from lattice boxes, single beads or a
+// saved bed; the tank's faces and the gate as planes; the contact law.
+#include "solvers/dem/dem_solver.hpp"
+#include "src/lattice.hpp"
+#include "src/scene.hpp"
+#include "src/scene_particles.hpp"
+
+#include <fmt/format.h>
+
+#include <vector>
+
+namespace dvisph {
+
+template <int D>
+struct SceneBeads {
+  std::vector<Vec<D>> x, v;
+};
+
+// Bead centres and velocities of the lattice boxes (bottom layer first, up to
+// solids.count) and the single beads. Throws SceneError if the boxes hold too few.
+template <int D>
+SceneBeads<D> scene_beads(const Scene& s) {
+  const auto& b = *s.solids;
+  SceneBeads<D> out;
+  std::vector<Vec<D>> sites;
+  for (const auto& box : b.lattice) {
+    const auto pts = lattice<D>(to_vec<D>(box.lo), to_vec<D>(box.hi), b.lattice_spacing * b.diameter,
+                                b.jitter * b.diameter, static_cast<unsigned>(b.seed));
+    sites.insert(sites.end(), pts.begin(), pts.end());
+  }
+  if (b.count > static_cast<int>(sites.size()))
+    throw SceneError(fmt::format("solids.count = {}: the lattice boxes hold only {} beads at "
+                                 "solids.lattice_spacing = {:g}",
+                                 b.count, sites.size(), b.lattice_spacing));
+  if (b.count > 0) sites.resize(b.count);
+  out.x = sites;
+  out.v.assign(sites.size(), Vec<D>::zero());
+  for (const auto& one : b.beads) {
+    out.x.push_back(to_vec<D>(one.x));
+    out.v.push_back(to_vec<D>(one.v));
+  }
+  return out;
+}
+
+// The beads of a scene: a saved bed (solids.bed) or the scene's own.
+template <int D, class Space>
+dem::Spheres<D, Space> scene_spheres(const Scene& s) {
+  const auto& b = *s.solids;
+  if (!b.bed.empty()) {
+    Checkpoint bed;
+    try {
+      bed = Checkpoint::read(b.bed);
+    } catch (const std::exception& e) {
+      throw SceneError(fmt::format("solids.bed = '{}': {}", b.bed, e.what()));
+    }
+    return dem::read_spheres<D, Space>(bed);
+  }
+  const auto beads = scene_beads<D>(s);
+  dem::Spheres<D, Space> spheres(beads.x, 0.5 * b.diameter, b.density, "beads");
+  copy_points<D>(beads.v, spheres.v);
+  return spheres;
+}
+
+// Tank faces (no top face for an open top) and the gate, normals into the beads' side.
+template <int D>
+std::vector<dem::PlaneWall<D>> scene_walls(const Scene& s) {
+  const Vec<D> lo = to_vec<D>(s.tank.lo), hi = to_vec<D>(s.tank.hi);
+  std::vector<dem::PlaneWall<D>> walls;
+  for (const auto& w : dem::box_walls<D>(lo, hi))
+    if (!(s.open_top && w.normal[D - 1] < 0)) walls.push_back(w);
+  if (s.gate) {
+    Vec<D> p = lo, n = Vec<D>::zero();
+    p[0] = s.gate->x;
+    n[0] = -1;
+    walls.emplace_back(p, n, s.gate->remove_at);
+  }
+  return walls;
+}
+
+template <int D, class Space>
+dem::DemSolver<D, Space> scene_dem(const Scene& s) {
+  const auto& b = *s.solids;
+  Vec<D> lo = to_vec<D>(s.tank.lo), hi = to_vec<D>(s.tank.hi), g = to_vec<D>(s.gravity);
+  if (s.open_top) hi[D - 1] += hi[D - 1] - lo[D - 1];  // room to bounce above an open top
+  dem::DemOptions<D> options;
+  options.safety = b.dt_safety;
+  options.rotation = b.rotation;
+  return dem::DemSolver<D, Space>(scene_spheres<D, Space>(s), scene_walls<D>(s),
+                                  dem::LinearSpringDashpot<D>(b.stiffness, b.restitution, b.friction),
+                                  lo, hi, g, options);
+}
+
+}  // namespace dvisph
