@@ -10,12 +10,12 @@
 // Every bead presses on its 6 lattice neighbours (overlaps of about 5 um), the
 // coordination of a dense random packing; the solid fraction is 0.52 against about 0.6
 // for random close packing, so the sweep meets about 15 % fewer non-touching candidates.
+#include "benchmarks/records.hpp"
 #include "benchmarks/timer.hpp"
 #include "solvers/dem/dem_solver.hpp"
 #include "src/lattice.hpp"
 
 #include <fmt/core.h>
-#include <fmt/os.h>
 
 #include <algorithm>
 #include <cmath>
@@ -28,16 +28,8 @@ using namespace dvisph::dem;
 
 namespace {
 
-struct Record {
-  std::string backend;
-  int threads;
-  long n;
-  double step_ns = 0, step_min_ns = 0, shuffled_step_ns = 0, bin_ns = 0, reorder_ns = 0,
-         contacts_per_bead = 0;
-};
-
 template <class Space>
-Record run(long target_n) {
+bench::Record run(long target_n) {
   const Real d = 2.7e-3, rho = 2500, k_n = 1000, spacing = 0.998 * d;
   const int side = static_cast<int>(std::round(std::cbrt(double(target_n))));
   Vec<3> lo, hi;
@@ -63,28 +55,27 @@ Record run(long target_n) {
   const auto step = bench::time_it<Space>(ten_steps, 3);
   CellList<3, Space> cells(Grid<3>(lo, hi, 1.05 * d));  // as the solver bins
   const auto bin = bench::time_it<Space>([&] { cells.build(beads.x, n); }, 5);
-  const double ns = 1e9 / n;
-  Record r{Space::name(), Space().concurrency(), n};
-  r.step_ns = step.median_s * ns / steps;
-  r.step_min_ns = step.min_s * ns / steps;
-  r.shuffled_step_ns = shuffled.median_s * ns / steps;
-  r.bin_ns = bin.median_s * ns;
-  r.reorder_ns = reorder.median_s * ns;
-  r.contacts_per_bead = dem.contacts_per_bead();
-  return r;
+  const double ns = 1e9 / n, contacts = dem.contacts_per_bead();
+  fmt::print(stderr,
+             "{} {}t n={}: {:.0f} ns/bead/step ({:.0f} unsorted, binning {:.0f}), "
+             "{:.2f} contacts/bead\n",
+             Space::name(), Space().concurrency(), n, step.median_s * ns / steps,
+             shuffled.median_s * ns / steps, bin.median_s * ns, contacts);
+  return bench::Record()
+      .add("backend", Space::name())
+      .add("threads", Space().concurrency())
+      .add("n", n)
+      .add("step_ns_per_bead", step.median_s * ns / steps, 1)
+      .add("step_ns_per_bead_best", step.min_s * ns / steps, 1)
+      .add("unsorted_step_ns_per_bead", shuffled.median_s * ns / steps, 1)
+      .add("bin_ns_per_bead", bin.median_s * ns, 1)
+      .add("reorder_ns_per_bead", reorder.median_s * ns, 1)
+      .add("contacts_per_bead", contacts, 2);
 }
 
 template <class Space>
-void run_all(std::vector<Record>& out) {
-  for (long n : {10000L, 100000L, 1000000L}) {
-    out.push_back(run<Space>(n));
-    const auto& r = out.back();
-    fmt::print(stderr,
-               "{} {}t n={}: {:.0f} ns/bead/step ({:.0f} unsorted, binning {:.0f}), "
-               "{:.2f} contacts/bead\n",
-               r.backend, r.threads, r.n, r.step_ns, r.shuffled_step_ns, r.bin_ns,
-               r.contacts_per_bead);
-  }
+void run_all(std::vector<bench::Record>& out) {
+  for (long n : {10000L, 100000L, 1000000L}) out.push_back(run<Space>(n));
 }
 
 }  // namespace
@@ -93,23 +84,10 @@ int main(int argc, char** argv) {
   Kokkos::ScopeGuard kokkos(argc, argv);
   const std::string path = argc > 1 ? argv[1] : "dem_contacts.json";
   const bool serial = !(argc > 2 && std::string(argv[2]) == "--no-serial");
-  std::vector<Record> records;
+  std::vector<bench::Record> records;
 #ifdef KOKKOS_ENABLE_SERIAL
   if (serial) run_all<Kokkos::Serial>(records);
 #endif
   run_all<Kokkos::DefaultExecutionSpace>(records);
-  auto out = fmt::output_file(path);
-  out.print("[\n");
-  for (std::size_t i = 0; i < records.size(); ++i) {
-    const auto& r = records[i];
-    out.print(
-        "  {{\"backend\": \"{}\", \"threads\": {}, \"n\": {}, \"step_ns_per_bead\": {:.1f}, "
-        "\"step_ns_per_bead_best\": {:.1f}, \"unsorted_step_ns_per_bead\": {:.1f}, "
-        "\"bin_ns_per_bead\": {:.1f}, \"reorder_ns_per_bead\": {:.1f}, \"contacts_per_bead\": "
-        "{:.2f}}}{}\n",
-        r.backend, r.threads, r.n, r.step_ns, r.step_min_ns, r.shuffled_step_ns, r.bin_ns,
-        r.reorder_ns, r.contacts_per_bead, i + 1 < records.size() ? "," : "");
-  }
-  out.print("]\n");
-  fmt::print("wrote {}\n", path);
+  bench::write_json(path, records);
 }

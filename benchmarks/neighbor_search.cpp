@@ -1,6 +1,8 @@
 // Binning and one neighbour sweep (summation density), 2D and 3D, on the Serial and
 // OpenMP backends; also a sweep through a stored CSR list, to measure which wins for
-// loops repeated within one step. Writes JSON (one record per case) to argv[1].
+// loops repeated within one step. Writes JSON (one record per case) to argv[1];
+// `--no-serial` skips the Serial cases (for a second run at another thread count).
+#include "benchmarks/records.hpp"
 #include "benchmarks/timer.hpp"
 #include "kernels/cubic_spline.hpp"
 #include "kernels/summation_density.hpp"
@@ -10,7 +12,6 @@
 #include "src/reorder.hpp"
 
 #include <fmt/core.h>
-#include <fmt/os.h>
 
 #include <cmath>
 #include <string>
@@ -20,15 +21,8 @@ using namespace dvisph;
 
 namespace {
 
-struct Record {
-  std::string backend;
-  int threads, dim;
-  long n;
-  double bin_ns, sweep_ns, list_build_ns, list_sweep_ns, pairs_per_particle;
-};
-
 template <int D, class Space>
-Record run(long target_n) {
+bench::Record run(long target_n) {
   using Mem = typename Space::memory_space;
   const Real dx = 1.0;
   const int side = static_cast<int>(std::round(std::pow(double(target_n), 1.0 / D)));
@@ -63,18 +57,24 @@ Record run(long target_n) {
       [&] { summation_density<D>(list.sweep(), kernel, xs, m, rho, n); }, 5);
 
   const double ns = 1e9 / n;
-  return {Space::name(), Space().concurrency(), D, n, bin.median_s * ns,
-          cell_sweep.median_s * ns, list_build.median_s * ns, list_sweep.median_s * ns,
-          double(list.pairs()) / n};
+  fmt::print(stderr, "{} {}t {}D n={}: done\n", Space::name(), Space().concurrency(), D, n);
+  return bench::Record()
+      .add("backend", Space::name())
+      .add("threads", Space().concurrency())
+      .add("dim", D)
+      .add("n", n)
+      .add("bin_ns_per_particle", bin.median_s * ns, 2)
+      .add("sweep_ns_per_particle", cell_sweep.median_s * ns, 2)
+      .add("list_build_ns_per_particle", list_build.median_s * ns, 2)
+      .add("list_sweep_ns_per_particle", list_sweep.median_s * ns, 2)
+      .add("pairs_per_particle", double(list.pairs()) / n, 1);
 }
 
 template <class Space>
-void run_all(std::vector<Record>& out) {
-  for (long n : {100000L, 1000000L}) {
+void run_all(std::vector<bench::Record>& out) {
+  for (long n : {10000L, 100000L, 1000000L}) {
     out.push_back(run<2, Space>(n));
     out.push_back(run<3, Space>(n));
-    const auto& r = out.back();
-    fmt::print(stderr, "{} {}t {}D n={}: done\n", r.backend, r.threads, r.dim, r.n);
   }
 }
 
@@ -83,22 +83,11 @@ void run_all(std::vector<Record>& out) {
 int main(int argc, char** argv) {
   Kokkos::ScopeGuard kokkos(argc, argv);
   const std::string path = argc > 1 ? argv[1] : "neighbor_search.json";
-  std::vector<Record> records;
+  const bool serial = !(argc > 2 && std::string(argv[2]) == "--no-serial");
+  std::vector<bench::Record> records;
 #ifdef KOKKOS_ENABLE_SERIAL
-  run_all<Kokkos::Serial>(records);
+  if (serial) run_all<Kokkos::Serial>(records);
 #endif
   run_all<Kokkos::DefaultExecutionSpace>(records);
-  auto out = fmt::output_file(path);
-  out.print("[\n");
-  for (std::size_t i = 0; i < records.size(); ++i) {
-    const auto& r = records[i];
-    out.print(
-        "  {{\"backend\": \"{}\", \"threads\": {}, \"dim\": {}, \"n\": {}, \"bin_ns_per_particle\": "
-        "{:.2f}, \"sweep_ns_per_particle\": {:.2f}, \"list_build_ns_per_particle\": {:.2f}, "
-        "\"list_sweep_ns_per_particle\": {:.2f}, \"pairs_per_particle\": {:.1f}}}{}\n",
-        r.backend, r.threads, r.dim, r.n, r.bin_ns, r.sweep_ns, r.list_build_ns, r.list_sweep_ns,
-        r.pairs_per_particle, i + 1 < records.size() ? "," : "");
-  }
-  out.print("]\n");
-  fmt::print("wrote {}\n", path);
+  bench::write_json(path, records);
 }
