@@ -20,6 +20,8 @@ class IsphRun {
     const StepInfo& info = solver_.step();
     cg_total_ += info.cg_iterations;
     cg_max_ = std::max(cg_max_, info.cg_iterations);
+    pair_visits_ +=
+        double(solver_.pairs()) * (info.cg_iterations + pair_sweeps_outside_cg(solver_.stages()));
   }
   long step_count() const { return solver_.info().step; }
   double time() const { return solver_.info().t; }
@@ -37,6 +39,10 @@ class IsphRun {
     const double derr = max_density_error<Space>(solver_.density(), solver_.pressure(), p.kind,
                                                  solver_.reference_density(), solver_.size());
     if (info.step > 0) max_density_error_ = std::max(max_density_error_, derr);
+    if (info.step > 0)
+      density_error_p95_ = std::max(
+          density_error_p95_, density_error_p95<Space>(solver_.density(), solver_.pressure(), p.kind,
+                                                        solver_.reference_density(), solver_.size()));
     if (dam_break_) {
       front_.T.push_back(info.t * std::sqrt(2 * g_ / s_.column_width));
       front_.Z.push_back(front / s_.column_width);
@@ -75,6 +81,7 @@ class IsphRun {
     c.set("isph_run/cg_total", static_cast<double>(cg_total_));
     c.set("isph_run/cg_max", cg_max_);
     c.set("isph_run/max_density_error", max_density_error_);
+    c.set("isph_run/density_error_p95", density_error_p95_);
     c.put("isph_run/front_T", host_view(front_.T));
     c.put("isph_run/front_Z", host_view(front_.Z));
   }
@@ -83,6 +90,7 @@ class IsphRun {
     cg_total_ = static_cast<long>(c.number("isph_run/cg_total"));
     cg_max_ = static_cast<int>(c.number("isph_run/cg_max"));
     max_density_error_ = c.number("isph_run/max_density_error");
+    density_error_p95_ = c.number("isph_run/density_error_p95");
     for (auto* v : {&front_.T, &front_.Z}) {
       const std::string name = v == &front_.T ? "isph_run/front_T" : "isph_run/front_Z";
       v->resize(c.extents(name).at(0));
@@ -92,19 +100,24 @@ class IsphRun {
 
   std::string summary() const {
     std::string stage_times;
-    for (const auto& st : solver_.stages())
+    double step_seconds = 0;  // this process's steps, as pair_visits_
+    for (const auto& st : solver_.stages()) {
       stage_times += fmt::format("{}\"{}\": {:.4f}", stage_times.empty() ? "" : ", ", st.name, st.seconds);
+      step_seconds += st.seconds;
+    }
     const long steps = std::max(1L, solver_.info().step);
     return fmt::format(
         "  \"kernel\": \"{}\",\n  \"particles\": {{\"fluid\": {}, \"wall\": {}, \"gate\": {}}},\n"
-        "  \"pairs\": {},\n  \"cg_iterations_mean\": {:.2f},\n  \"cg_iterations_max\": {},\n"
-        "  \"stage_seconds\": {{{}}},\n",
+        "  \"pairs\": {},\n  \"pair_interactions_per_second\": {:.4g},\n  \"cg_iterations_mean\": {:.2f},\n"
+        "  \"cg_iterations_max\": {},\n  \"stage_seconds\": {{{}}},\n",
         Kernel::name, solver_.count(Kind::fluid), solver_.count(Kind::wall),
-        solver_.count(Kind::gate), solver_.pairs(), double(cg_total_) / steps, cg_max_, stage_times);
+        solver_.count(Kind::gate), solver_.pairs(), pair_visits_ / std::max(step_seconds, 1e-30),
+        double(cg_total_) / steps, cg_max_, stage_times);
   }
 
   std::string metrics() const {
-    std::string m = fmt::format("\"max_density_error\": {:.6g}", max_density_error_);
+    std::string m = fmt::format("\"max_density_error\": {:.6g}, \"density_error_p95\": {:.6g}",
+                                max_density_error_, density_error_p95_);
     if (dam_break_) {
       int points = 0;
       const auto data = martin_moyce();
@@ -142,6 +155,8 @@ class IsphRun {
   bool dam_break_;
   FrontData front_;
   double max_density_error_ = 0;
+  double density_error_p95_ = 0;  // largest over the steps of the p95 over particles
+  double pair_visits_ = 0;        // neighbour pairs swept by this process's steps
   long cg_total_ = 0;
   int cg_max_ = 0;
 };
