@@ -37,6 +37,14 @@ class Checkpoint {
   template <class View>
   void get(const std::string& name, const View& view) const;
   std::vector<std::size_t> extents(const std::string& name) const;
+  // The stored values of an array, row-major.
+  template <class T>
+  const auto& values(const std::string& name) const {
+    const auto& t = table<std::remove_const_t<T>>(*this);
+    const auto it = t.find(name);
+    if (it == t.end()) throw std::runtime_error("checkpoint: no array '" + name + "'");
+    return it->second.values;
+  }
 
   // Throws std::runtime_error naming the file (unwritable, disk full, not a checkpoint).
   void write(const std::string& path) const;
