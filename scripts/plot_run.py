@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """Plots of a run directory (written by `dvisph run`): the surge front against Martin &
-Moyce (1952) for dam breaks, pressure against depth for hydrostatic tanks.
+Moyce (1952) for dam breaks, pressure against depth for hydrostatic tanks, energy and
+bed height for bead runs, the bead front for a dry collapse.
 Usage: plot_run.py RUN_DIR [more RUN_DIRs with the same metrics kind] [-o PNG]"""
 import argparse
 import csv
@@ -83,6 +84,39 @@ def plot_pressure(runs, png):
     fig.savefig(png, dpi=120)
 
 
+def plot_beads(runs, png):
+    """Energy (kinetic on a log scale) and the heights of the beads against time."""
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
+    for run in runs:
+        s, sc = series(run), scene_of(run)
+        name = sc.get("name", run)
+        ax1.semilogy(s["t"], np.maximum(s["kinetic_energy"], 1e-16), label=f"{name}: kinetic")
+        ax1.semilogy(s["t"], s["total_energy"] - s["total_energy"].min() + 1e-16, "--",
+                     label=f"{name}: total - its final value")
+        if sc["metrics"]["kind"] == "bead_collapse":
+            a = sc["metrics"]["column_width"]
+            g = abs(sc.get("material", {}).get("gravity", [0, 0, -9.81])[-1])
+            ax2.plot(s["t"] * np.sqrt(2 * g / a), s["front"] / a, label=f"{name}: bead front")
+            ax2.set_xlabel("T = t sqrt(2g/a)")
+            ax2.set_ylabel("Z = z/a")
+        else:
+            ax2.plot(s["t"], 100 * s["bed_top"], label=f"{name}: highest bead top")
+            summary = json.load(open(os.path.join(run, "summary.json")))["metrics"]
+            if "bed_height" in summary:
+                ax2.axhline(100 * summary["bed_height"], color="k", lw=1,
+                            label=f"bed height {100 * summary['bed_height']:.2f} cm at packing "
+                                  f"{summary['packing_fraction_core']:.3f}")
+            ax2.set_xlabel("t [s]")
+            ax2.set_ylabel("height [cm]")
+    ax1.set_xlabel("t [s]")
+    ax1.set_ylabel("energy [J]")
+    for ax in (ax1, ax2):
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(png, dpi=120)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("runs", nargs="+")
@@ -95,6 +129,9 @@ def main():
     elif kind == "hydrostatic":
         png = args.output or os.path.join(args.runs[0], "pressure.png")
         plot_pressure(args.runs, png)
+    elif kind in ("bead_bed", "bead_collapse"):
+        png = args.output or os.path.join(args.runs[0], "beads.png")
+        plot_beads(args.runs, png)
     else:
         print("no plot for metrics kind", kind)
         return
