@@ -1,0 +1,187 @@
+#!/usr/bin/python3
+"""Stability stress matrix: runs every cell of every case in CASES with `dvisph run`
+and writes docs/stability.md (and out/stability/<case>.json).
+
+A cell is *stable* when the run reaches its end time with no guard firing (no NaN, no
+particle out of the domain, CG converged within its cap, no DEM bead overlapping more
+than half its radius or skipping contacts) and
+  - water: the density error of submerged particles stayed below 10 %;
+  - beads: the total energy never rose by more than 1e-9 of its initial value between
+    series rows (a dissipative system must not gain energy).
+Adding a case (e.g. a coupled one later) is one entry in CASES.
+
+Usage: scripts/stability.py [--only CASE ...] [--jobs N] [--table-only]
+"""
+import argparse
+import concurrent.futures
+import datetime
+import itertools
+import json
+import os
+import platform
+import subprocess
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+DVISPH = os.path.join(ROOT, "build", "dvisph")
+OUT = os.path.join(ROOT, "out", "stability")
+
+WATER_LIMIT = 0.10   # density error of a stable water run
+ENERGY_RISE = 1e-9   # relative energy rise of a stable bead run
+
+# A small bead bed: 300 beads in a 2 cm x 2 cm footprint, or released by a gate.
+SMALL_BED = {
+    "geometry.tank.hi": "[0.02, 0.02, 0.15]",
+    "solids.lattice": "[{lo: [0, 0, 0], hi: [0.02, 0.02, 0.12]}]",
+    "solids.count": 300,
+    "output.series_every": 20,
+    "output.snapshot_every": 0,
+}
+SMALL_COLLAPSE = dict(SMALL_BED, **{
+    "geometry.tank.hi": "[0.1, 0.02, 0.15]",
+    "geometry.gate": "{x: 0.02, remove_at: 0.0}",
+    "metrics.kind": "bead_collapse",
+    "metrics.column_width": 0.02,
+})
+
+CASES = [
+    dict(name="dam_break_2d", kind="water", scene="scenes/dam_break_2d.yaml",
+         what="water dam break, a/dx = 20, to T = 3",
+         base={"geometry.spacing": 0.0025, "geometry.wall_layers": 6, "end_time": 0.152,
+               "output.snapshot_every": 0},
+         grid={"numerics.cfl": [0.1, 0.25, 0.5], "numerics.gamma": [0, 0.001, 0.1, 1],
+               "numerics.h_over_dx": [1.2, 1.5, 1.6], "geometry.jitter": [0, 0.1]}),
+    dict(name="hydrostatic_2d", kind="water", scene="scenes/hydrostatic_2d.yaml",
+         what="still water 10 cm deep, dx = 5 mm, 1 000 steps",
+         base={"geometry.spacing": 0.005, "geometry.wall_layers": 6, "end_time": 1.0,
+               "output.snapshot_every": 0, "output.series_every": 10},
+         grid={"numerics.gamma": [0, 0.001, 0.1, 1], "numerics.h_over_dx": [1.2, 1.5, 1.6],
+               "geometry.jitter": [0, 0.1]}),
+    dict(name="hydrostatic_3d_long", kind="water", scene="scenes/hydrostatic_3d.yaml",
+         what="still water in 3D, dx = 6.25 mm (coarse, to afford the length), 20 000 steps",
+         base={"geometry.spacing": 0.00625, "end_time": 20.0, "output.snapshot_every": 0,
+               "output.series_every": 100},
+         grid={"numerics.gamma": [0.001]}),
+    dict(name="bead_bed", kind="beads", scene="scenes/bead_bed_settle.yaml",
+         what="300 beads settling for 0.05 s",
+         base=dict(SMALL_BED, end_time=0.05),
+         grid={"solids.stiffness": [1e2, 1e3, 1e4, 1e5], "solids.dt_safety": [0.02, 0.1, 0.2, 0.5],
+               "solids.restitution": [0.1, 0.5, 0.9, 0.99]}),
+    dict(name="dry_collapse", kind="beads", scene="scenes/bead_bed_settle.yaml",
+         what="300 beads released by a gate, 0.05 s",
+         base=dict(SMALL_COLLAPSE, end_time=0.05),
+         grid={"solids.stiffness": [1e2, 1e3, 1e4, 1e5], "solids.dt_safety": [0.02, 0.1, 0.2, 0.5],
+               "solids.restitution": [0.1, 0.9]}),
+]
+
+
+def cells(case):
+    keys = list(case["grid"])
+    for values in itertools.product(*(case["grid"][k] for k in keys)):
+        yield dict(zip(keys, values))
+
+
+def cell_name(case, cell):
+    return case["name"] + "__" + "__".join(f"{k.split('.')[-1]}={v}" for k, v in cell.items())
+
+
+def run_cell(case, cell):
+    out = os.path.join(OUT, cell_name(case, cell))
+    args = [DVISPH, "run", os.path.join(ROOT, case["scene"]), "--out", out, "--quiet"]
+    for k, v in list(case["base"].items()) + list(cell.items()):
+        args += ["--set", f"{k}={v}"]
+    env = dict(os.environ, OMP_NUM_THREADS="1", OMP_PROC_BIND="false")
+    start = time.time()
+    p = subprocess.run(args, capture_output=True, text=True, env=env)
+    result = {"cell": cell, "exit": p.returncode, "seconds": round(time.time() - start, 1)}
+    summary = os.path.join(out, "summary.json")
+    if p.returncode == 0 and os.path.exists(summary):
+        s = json.load(open(summary))
+        m = s["metrics"]
+        result["steps"] = s["steps"]
+        if case["kind"] == "water":
+            result["density_error"] = m["max_density_error"]
+            result["cg_mean"] = s["cg_iterations_mean"]
+            result["cg_max"] = s["cg_iterations_max"]
+            result["stable"] = m["max_density_error"] < WATER_LIMIT
+            result["why"] = "" if result["stable"] else "density error >= 10 %"
+        else:
+            rise = m["energy_largest_rise"] / max(m["energy_initial"], 1e-300)
+            result["energy_rise"] = rise
+            result["stable"] = rise <= ENERGY_RISE
+            result["why"] = "" if result["stable"] else "energy rose"
+    else:
+        last = (p.stderr.strip().splitlines() or ["?"])
+        why = next((l for l in last if l.startswith("numerical failure")), last[-1])
+        result.update(stable=False, why=why[:160])
+    return result
+
+
+def table(case, results):
+    keys = list(case["grid"])
+    cols = keys + (["density error", "CG mean / max"] if case["kind"] == "water" else ["energy rise"])
+    lines = [f"### {case['name']}: {case['what']}", "",
+             f"Scene `{case['scene']}` with " +
+             ", ".join(f"`{k}={v}`" for k, v in case["base"].items()) + ".", "",
+             "| " + " | ".join(cols + ["steps", "wall s", "stable"]) + " |",
+             "|" + "---|" * (len(cols) + 3)]
+    stable = 0
+    for r in results:
+        row = [str(r["cell"][k]) for k in keys]
+        if case["kind"] == "water":
+            row += [f"{100 * r['density_error']:.2f} %" if "density_error" in r else "—",
+                    f"{r['cg_mean']:.0f} / {r['cg_max']}" if "cg_mean" in r else "—"]
+        else:
+            row += [f"{r['energy_rise']:.1e}" if "energy_rise" in r else "—"]
+        row += [str(r.get("steps", "—")), f"{r['seconds']:.0f}",
+                "yes" if r["stable"] else "**no**: " + r["why"].replace("|", "/")]
+        stable += r["stable"]
+        lines.append("| " + " | ".join(row) + " |")
+    lines += ["", f"{stable} of {len(results)} cells stable.", ""]
+    return "\n".join(lines)
+
+
+def write_doc():
+    parts = [
+        "# Stability stress matrix", "",
+        f"Made by `scripts/stability.py` on {datetime.date.today()} ({platform.node()}, "
+        f"{platform.machine()}, {os.cpu_count()} cores; one OpenMP thread per run). "
+        "A cell is stable when the run reaches its end time with no guard firing (NaN, a "
+        "particle leaving the domain, CG not converged within its cap, a DEM bead "
+        "overlapping more than half its radius or moving more than half the contact skin "
+        "in a step) and, for water, the density error of submerged particles (P >= 100 Pa) "
+        f"stays below {100 * WATER_LIMIT:.0f} %; for beads, the total energy never rises "
+        f"by more than {ENERGY_RISE:g} of its initial value between series rows.", ""]
+    for case in CASES:
+        path = os.path.join(OUT, case["name"] + ".json")
+        if os.path.exists(path):
+            parts.append(table(case, json.load(open(path))))
+        else:
+            parts += [f"### {case['name']}: {case['what']}", "", "not run yet", ""]
+    with open(os.path.join(ROOT, "docs", "stability.md"), "w") as f:
+        f.write("\n".join(parts))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--only", nargs="*", help="case names (default: all)")
+    ap.add_argument("--jobs", type=int, default=1, help="runs at once (one thread each)")
+    ap.add_argument("--table-only", action="store_true", help="rewrite docs/stability.md only")
+    args = ap.parse_args()
+    os.makedirs(OUT, exist_ok=True)
+    if not args.table_only:
+        for case in CASES:
+            if args.only and case["name"] not in args.only:
+                continue
+            grid = list(cells(case))
+            with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
+                results = list(pool.map(lambda c: run_cell(case, c), grid))
+            json.dump(results, open(os.path.join(OUT, case["name"] + ".json"), "w"), indent=1)
+            print(f"{case['name']}: {sum(r['stable'] for r in results)} of {len(results)} stable",
+                  flush=True)
+    write_doc()
+    print("wrote docs/stability.md")
+
+
+if __name__ == "__main__":
+    main()
