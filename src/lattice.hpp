@@ -1,5 +1,6 @@
 #pragma once
 // Host-side generation of lattice points (setup only, never in the time step).
+#include "src/lattice_sites.hpp"
 #include "src/types.hpp"
 
 #include <cmath>
@@ -16,7 +17,7 @@ std::vector<Vec<D>> lattice(const Vec<D>& lo, const Vec<D>& hi, Real dx, Real ji
   int count[3] = {1, 1, 1};
   long total = 1;
   for (int k = 0; k < D; ++k) {
-    count[k] = static_cast<int>(std::floor((hi[k] - lo[k]) / dx + 1e-9));
+    count[k] = static_cast<int>(lattice_sites(hi[k] - lo[k], dx));
     total *= count[k];
   }
   std::vector<Vec<D>> points;

@@ -75,13 +75,19 @@ int main(int argc, char** argv) {
     return ok;
   }
   dvisph::Scene scene;
+  const bool check_only = app.got_subcommand("check");
   try {
     scene = dvisph::load_scene(scene_path, overrides);
+    // a run reads the bed as it starts; a check has to read it here
+    if (check_only && scene.solids && !scene.solids->bed.empty()) dvisph::read_bed(scene);
   } catch (const dvisph::SceneError& e) {
     fmt::print(stderr, "error: {}: {}\n", scene_path, e.what());
     return bad_input;
+  } catch (const std::exception& e) {  // not the scene's fault (out of memory, a loader bug)
+    fmt::print(stderr, "error: {}: cannot load the scene: {}\n", scene_path, e.what());
+    return failure;
   }
-  if (app.got_subcommand("check")) {
+  if (check_only) {
     fmt::print("{}: valid ({}D scene '{}')\n", scene_path, scene.dimension, scene.name);
     return ok;
   }

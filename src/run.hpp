@@ -78,15 +78,22 @@ int run(Sim& sim, const Scene& s, const RunOptions& opt) {
   SnapshotWriter writer(out);
   long resume_step = -1;
   if (!opt.restart.empty()) {
-    const Checkpoint c = Checkpoint::read(opt.restart);
-    if (c.text("run/scene_name") != s.name)
-      throw SceneError(fmt::format("--restart {}: written by scene '{}', not '{}'", opt.restart,
-                                   c.text("run/scene_name"), s.name));
-    sim.restore(c);
-    next_snapshot = c.number("run/next_snapshot");
-    next_checkpoint = c.number("run/next_checkpoint");
-    writer.resume(detail::split(c.text("run/snapshot_index"), record_sep));
-    resume_step = sim.step_count();
+    // a checkpoint that is missing, not one, or not of this scene is bad input
+    try {
+      const Checkpoint c = Checkpoint::read(opt.restart);
+      if (c.text("run/scene_name") != s.name)
+        throw SceneError(fmt::format("--restart {}: written by scene '{}', not '{}'", opt.restart,
+                                     c.text("run/scene_name"), s.name));
+      sim.restore(c);
+      next_snapshot = c.number("run/next_snapshot");
+      next_checkpoint = c.number("run/next_checkpoint");
+      writer.resume(detail::split(c.text("run/snapshot_index"), record_sep));
+      resume_step = sim.step_count();
+    } catch (const SceneError&) {
+      throw;
+    } catch (const std::runtime_error& e) {
+      throw SceneError(fmt::format("--restart {}: {}", opt.restart, e.what()));
+    }
   }
   auto save = [&](Checkpoint& c) {
     sim.save(c);

@@ -1,10 +1,12 @@
 #include "src/scene.hpp"
 
+#include "src/lattice_sites.hpp"
 #include "src/schema.hpp"
 
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -12,16 +14,22 @@
 namespace dvisph {
 namespace {
 
+// The most particles, beads or grid cells a run may have: src/grid.hpp refuses more
+// cells, and particles are indexed by int.
+constexpr double max_count = 1 << 30;
+
 std::string join_names(const std::vector<Field>& fields) {
   std::string s;
   for (const auto& f : fields) s += (s.empty() ? "" : ", ") + f.name;
   return s;
 }
 
+// A value for a message, cut short: it may be a whole document.
 std::string show(const YAML::Node& n) {
   YAML::Emitter e;
   e << YAML::Flow << n;
-  return e.c_str();
+  const std::string text = e.c_str();
+  return text.size() <= 80 ? text : text.substr(0, 77) + "...";
 }
 
 double as_number(const YAML::Node& n, const std::string& path) {
@@ -87,6 +95,8 @@ void validate(const Field& f, const YAML::Node& n, const std::string& path, int 
       const std::string where = path.empty() ? "the scene" : path;
       if (!n.IsMap()) throw SceneError(fmt::format("{}: must be a block of keys", where));
       for (const auto& kv : n) {
+        if (!kv.first.IsScalar())
+          throw SceneError(fmt::format("{}: key '{}' is not a name", where, show(kv.first)));
         const auto key = kv.first.as<std::string>();
         bool known = false;
         for (const auto& c : f.children) known = known || c.name == key;
@@ -140,9 +150,10 @@ Box read_box(const YAML::Node& n) { return {n["lo"].as<std::vector<double>>(), n
 
 void apply_override(YAML::Node& root, const std::string& assignment) {
   const auto eq = assignment.find('=');
-  if (eq == std::string::npos || eq == 0)
-    throw SceneError(fmt::format("--set '{}': expected key.path=value", assignment));
   const std::string path = assignment.substr(0, eq);
+  if (eq == std::string::npos || path.empty() || path.front() == '.' || path.back() == '.' ||
+      path.find("..") != std::string::npos)
+    throw SceneError(fmt::format("--set '{}': expected key.path=value", assignment));
   YAML::Node value;
   try {
     value = YAML::Load(assignment.substr(eq + 1));
@@ -154,12 +165,17 @@ void apply_override(YAML::Node& root, const std::string& assignment) {
   for (std::string part; std::getline(ss, part, '.');) parts.push_back(part);
   // yaml-cpp nodes are handles: walk down by reassigning references
   std::vector<YAML::Node> chain{root};
+  std::string walked;
   for (std::size_t k = 0; k + 1 < parts.size(); ++k) {
+    walked += (k ? "." : "") + parts[k];
     YAML::Node child = chain.back()[parts[k]];
     if (!child.IsDefined() || child.IsNull()) {
       chain.back()[parts[k]] = YAML::Node(YAML::NodeType::Map);
       child = chain.back()[parts[k]];
     }
+    if (!child.IsMap())
+      throw SceneError(
+          fmt::format("--set {}: {} is '{}', not a block of keys", path, walked, show(child)));
     chain.push_back(child);
   }
   chain.back()[parts.back()] = value;
@@ -172,16 +188,44 @@ void check_box(const Box& b, const std::string& path) {
                                    b.hi[k], k, b.lo[k]));
 }
 
+// Squared distance from a point to a box (0 inside).
+double distance2(const std::vector<double>& x, const Box& b) {
+  double d2 = 0;
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    const double out = std::max({b.lo[k] - x[k], 0.0, x[k] - b.hi[k]});
+    d2 += out * out;
+  }
+  return d2;
+}
+
+bool interiors_overlap(const Box& a, const Box& b) {
+  bool overlap = true;
+  for (std::size_t k = 0; k < a.lo.size(); ++k)
+    overlap = overlap && a.lo[k] < b.hi[k] && b.lo[k] < a.hi[k];
+  return overlap;
+}
+
 // Checks that need several keys at once.
 void check_solids(const Scene& s) {
   const auto& b = *s.solids;
+  const int dim = s.dimension;
   const double r = 0.5 * b.diameter;
   if (b.lattice.empty() && b.beads.empty() && b.bed.empty())
     throw SceneError("solids: no beads; give solids.lattice, solids.beads or solids.bed");
+  // the DEM bins the tank (twice as high with an open top) in cells no smaller than a bead
+  double cells = 1;
+  for (int k = 0; k < dim; ++k) {
+    const double side = (s.tank.hi[k] - s.tank.lo[k]) * (k == dim - 1 && s.open_top ? 2 : 1);
+    cells *= std::ceil(side / b.diameter);
+  }
+  if (cells > max_count)
+    throw SceneError(fmt::format("geometry.tank: {:.3g} cells of solids.diameter = {:g} m, more "
+                                 "than {:.3g}; are the tank and the diameter in metres?",
+                                 cells, b.diameter, max_count));
   // every bead wholly inside the tank and behind the gate
   auto check_inside = [&](const std::vector<double>& lo, const std::vector<double>& hi,
                           const std::string& path) {
-    for (int k = 0; k < s.dimension; ++k) {
+    for (int k = 0; k < dim; ++k) {
       const double top = k == 0 && s.gate ? s.gate->x : s.tank.hi[k];
       if (lo[k] - r < s.tank.lo[k] - 1e-12 || hi[k] + r > top + 1e-12)
         throw SceneError(fmt::format("{}: beads of diameter {:g} m at [{:g}, {:g}] m along axis {} "
@@ -190,17 +234,50 @@ void check_solids(const Scene& s) {
                                      k == 0 && s.gate ? " behind the gate" : ""));
     }
   };
+  // A lattice box fills its bottom layers first, up to solids.count beads over all boxes.
+  // Its beads stay inside the hull of its used sites, so hulls apart hold beads apart.
+  const double dx = b.lattice_spacing * b.diameter;
+  double sites = 0;
+  std::vector<std::pair<std::size_t, Box>> hulls;  // lattice boxes with beads
   for (std::size_t l = 0; l < b.lattice.size(); ++l) {
     const auto path = fmt::format("solids.lattice[{}]", l);
     check_box(b.lattice[l], path);
     auto inner = b.lattice[l];
-    for (int k = 0; k < s.dimension; ++k) inner.lo[k] += r, inner.hi[k] -= r;
-    for (int k = 0; k < s.dimension; ++k)
+    for (int k = 0; k < dim; ++k) inner.lo[k] += r, inner.hi[k] -= r;
+    for (int k = 0; k < dim; ++k)
       if (inner.hi[k] < inner.lo[k])
         throw SceneError(fmt::format("{}: thinner than solids.diameter = {:g} m along axis {}",
                                      path, b.diameter, k));
     check_inside(inner.lo, inner.hi, path);
+    Box hull = b.lattice[l];
+    double per_layer = 1, layers = 0;
+    for (int k = 0; k < dim; ++k) {
+      const double n = lattice_sites(hull.hi[k] - hull.lo[k], dx);
+      hull.hi[k] = hull.lo[k] + n * dx;
+      if (k < dim - 1) per_layer *= n;
+      else layers = n;
+    }
+    const double in_box = per_layer * layers;
+    const double used = b.count > 0 ? std::clamp(b.count - sites, 0.0, in_box) : in_box;
+    if (used > 0) {
+      hull.hi[dim - 1] = hull.lo[dim - 1] + std::ceil(used / per_layer) * dx;
+      hulls.emplace_back(l, hull);
+    }
+    sites += in_box;
   }
+  if (sites > max_count)
+    throw SceneError(fmt::format("solids.lattice: {:.3g} sites at solids.lattice_spacing = {:g} of "
+                                 "solids.diameter = {:g} m, more than {:.3g}",
+                                 sites, b.lattice_spacing, b.diameter, max_count));
+  if (b.count > sites)
+    throw SceneError(fmt::format("solids.count = {}: the lattice boxes hold only {:.0f} beads at "
+                                 "solids.lattice_spacing = {:g}",
+                                 b.count, sites, b.lattice_spacing));
+  for (std::size_t i = 0; i < hulls.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (interiors_overlap(hulls[i].second, hulls[j].second))
+        throw SceneError(fmt::format("solids.lattice[{}] overlaps the beads of solids.lattice[{}]",
+                                     hulls[i].first, hulls[j].first));
   if (b.jitter >= 0.5 * (b.lattice_spacing - 1) && b.jitter > 0)
     throw SceneError(fmt::format("solids.jitter = {:g}: beads could overlap, must be < "
                                  "(solids.lattice_spacing - 1) / 2 = {:g}",
@@ -208,9 +285,12 @@ void check_solids(const Scene& s) {
   for (std::size_t i = 0; i < b.beads.size(); ++i) {
     const auto path = fmt::format("solids.beads[{}].position", i);
     check_inside(b.beads[i].x, b.beads[i].x, path);
+    for (const auto& [l, hull] : hulls)
+      if (distance2(b.beads[i].x, hull) < r * r * (1 - 1e-12))
+        throw SceneError(fmt::format("{} reaches into the beads of solids.lattice[{}]", path, l));
     for (std::size_t j = 0; j < i; ++j) {
       double d2 = 0;
-      for (int k = 0; k < s.dimension; ++k)
+      for (int k = 0; k < dim; ++k)
         d2 += (b.beads[i].x[k] - b.beads[j].x[k]) * (b.beads[i].x[k] - b.beads[j].x[k]);
       if (d2 < b.diameter * b.diameter * (1 - 1e-12))
         throw SceneError(fmt::format("{} overlaps solids.beads[{}]", path, j));
@@ -219,7 +299,16 @@ void check_solids(const Scene& s) {
 }
 
 void check_consistency(const Scene& s) {
+  const char* name_chars = "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-.";
+  if (s.name.empty() || s.name.front() == '.' ||
+      s.name.find_first_not_of(name_chars) != std::string::npos)
+    throw SceneError(fmt::format("name = '{}': must be letters, digits, '_', '-' and '.', not "
+                                 "starting with '.' (it names the output directory)",
+                                 s.name));
   check_box(s.tank, "geometry.tank");
+  if (s.gate && !(s.gate->x > s.tank.lo[0] && s.gate->x < s.tank.hi[0]))
+    throw SceneError(fmt::format("geometry.gate.x = {:g} m: must lie inside the tank ({:g}, {:g}) m",
+                                 s.gate->x, s.tank.lo[0], s.tank.hi[0]));
   if (s.fluid.empty() && !s.solids)
     throw SceneError("nothing to simulate: give geometry.fluid, solids, or both");
   if (!s.fluid.empty() && s.solids)
@@ -246,6 +335,13 @@ void check_consistency(const Scene& s) {
   if (s.spacing * 2 > smallest)
     throw SceneError(fmt::format("geometry.spacing = {:g} m: larger than half the tank's "
                                  "smallest side ({:g} m)", s.spacing, smallest));
+  double particles = 1;  // the lattice over the tank and its walls bounds fluid and walls
+  for (int k = 0; k < s.dimension; ++k)
+    particles *= (s.tank.hi[k] - s.tank.lo[k]) / s.spacing + 2 * s.wall_layers;
+  if (particles > max_count)
+    throw SceneError(fmt::format("geometry.spacing = {:g} m: {:.3g} particles in the tank and its "
+                                 "walls, more than {:.3g}; is the tank in metres?",
+                                 s.spacing, particles, max_count));
   for (std::size_t b = 0; b < s.fluid.size(); ++b) {
     const auto path = fmt::format("geometry.fluid[{}]", b);
     const auto& f = s.fluid[b];
@@ -259,22 +355,15 @@ void check_consistency(const Scene& s) {
         throw SceneError(fmt::format("{}: thinner than geometry.spacing = {:g} m along axis {}",
                                      path, s.spacing, k));
     }
-    for (std::size_t o = 0; o < b; ++o) {
-      bool overlap = true;
-      for (int k = 0; k < s.dimension; ++k)
-        overlap = overlap && f.lo[k] < s.fluid[o].hi[k] && s.fluid[o].lo[k] < f.hi[k];
-      if (overlap)
+    for (std::size_t o = 0; o < b; ++o)
+      if (interiors_overlap(f, s.fluid[o]))
         throw SceneError(fmt::format("{} overlaps geometry.fluid[{}]", path, o));
-    }
   }
   // active walls (within 2h of fluid) need their own full support inside the band
   const int c = static_cast<int>(std::ceil(2 * s.h_over_dx - 1e-9));
   if (s.wall_layers < 2 * c - 2)
     throw SceneError(fmt::format("geometry.wall_layers = {}: too few for numerics.h_over_dx = {:g}, "
                                  "need at least {}", s.wall_layers, s.h_over_dx, 2 * c - 2));
-  if (s.gate && !(s.gate->x > s.tank.lo[0] && s.gate->x < s.tank.hi[0]))
-    throw SceneError(fmt::format("geometry.gate.x = {:g} m: must lie inside the tank ({:g}, {:g}) m",
-                                 s.gate->x, s.tank.lo[0], s.tank.hi[0]));
 }
 
 }  // namespace
@@ -294,7 +383,7 @@ Scene parse_scene(const std::string& yaml_text, const std::vector<std::string>& 
   if (!root["dimension"]) throw SceneError("missing required key 'dimension'");
   for (const auto& f : schema.children)
     if (f.name == "dimension") validate(f, root["dimension"], "dimension", 0);
-  const int dim = root["dimension"].as<int>();
+  const int dim = static_cast<int>(as_number(root["dimension"], "dimension"));
   validate(schema, root, "", dim);
 
   const Reader r(root);
@@ -358,6 +447,8 @@ Scene parse_scene(const std::string& yaml_text, const std::vector<std::string>& 
   check_consistency(s);
   YAML::Emitter e;
   e << root;
+  if (!e.good())
+    throw SceneError(fmt::format("cannot write the scene back as YAML: {}", e.GetLastError()));
   s.yaml = e.c_str();
   return s;
 }

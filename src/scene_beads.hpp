@@ -18,7 +18,7 @@ struct SceneBeads {
 };
 
 // Bead centres and velocities of the lattice boxes (bottom layer first, up to
-// solids.count) and the single beads. Throws SceneError if the boxes hold too few.
+// solids.count, which parse_scene checks the boxes hold) and the single beads.
 template <int D>
 SceneBeads<D> scene_beads(const Scene& s) {
   const auto& b = *s.solids;
@@ -29,10 +29,6 @@ SceneBeads<D> scene_beads(const Scene& s) {
                                 b.jitter * b.diameter, static_cast<unsigned>(b.seed));
     sites.insert(sites.end(), pts.begin(), pts.end());
   }
-  if (b.count > static_cast<int>(sites.size()))
-    throw SceneError(fmt::format("solids.count = {}: the lattice boxes hold only {} beads at "
-                                 "solids.lattice_spacing = {:g}",
-                                 b.count, sites.size(), b.lattice_spacing));
   if (b.count > 0) sites.resize(b.count);
   out.x = sites;
   out.v.assign(sites.size(), Vec<D>::zero());
@@ -43,18 +39,33 @@ SceneBeads<D> scene_beads(const Scene& s) {
   return out;
 }
 
+// The checkpoint solids.bed names, checked to hold beads of the scene's dimension.
+// Needs no Kokkos, so that `dvisph check` reads it too.
+inline Checkpoint read_bed(const Scene& s) {
+  const std::string& path = s.solids->bed;
+  try {
+    Checkpoint bed = Checkpoint::read(path);
+    if (!bed.has("dem/x")) throw std::runtime_error("holds no beads (no array dem/x)");
+    const auto extents = bed.extents("dem/x");
+    if (extents.size() != 2 || extents[1] != static_cast<std::size_t>(s.dimension))
+      throw std::runtime_error(fmt::format("its beads are not {}D", s.dimension));
+    return bed;
+  } catch (const std::exception& e) {
+    throw SceneError(fmt::format("solids.bed = '{}': {}", path, e.what()));
+  }
+}
+
 // The beads of a scene: a saved bed (solids.bed) or the scene's own.
 template <int D, class Space>
 dem::Spheres<D, Space> scene_spheres(const Scene& s) {
   const auto& b = *s.solids;
   if (!b.bed.empty()) {
-    Checkpoint bed;
+    const Checkpoint bed = read_bed(s);
     try {
-      bed = Checkpoint::read(b.bed);
+      return dem::read_spheres<D, Space>(bed);
     } catch (const std::exception& e) {
       throw SceneError(fmt::format("solids.bed = '{}': {}", b.bed, e.what()));
     }
-    return dem::read_spheres<D, Space>(bed);
   }
   const auto beads = scene_beads<D>(s);
   dem::Spheres<D, Space> spheres(beads.x, 0.5 * b.diameter, b.density, "beads");

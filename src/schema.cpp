@@ -68,7 +68,8 @@ Field make_schema() {
   return map(
       "", true,
       {
-          choice("name", "scene", {}, "scene name, used in outputs"),
+          choice("name", "scene", {},
+                 "scene name, used in outputs (letters, digits, `_`, `-`, `.`)"),
           integer("dimension", "", 2, 3, "spatial dimension: 2 or 3"),
           number("end_time", "s", "", 0, inf, "simulated time to run", true),
           map("material", false,
