@@ -133,7 +133,7 @@ int run(Sim& sim, const Scene& s, const RunOptions& opt) {
   long good_step = -1;
   try {
     while (sim.time() < s.end_time - 1e-12) {
-      if (sim.step_count() - good_step >= sim.steps_between_saves()) {
+      if (good_step < 0 || sim.step_count() - good_step >= sim.steps_between_saves()) {
         good = Checkpoint();
         save(good);
         good_step = sim.step_count();
