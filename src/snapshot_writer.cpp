@@ -1,11 +1,11 @@
 #include "src/snapshot_writer.hpp"
 
 #include <fmt/format.h>
-#include <fmt/os.h>
 #include <hdf5.h>
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <stdexcept>
 
 namespace dvisph {
@@ -86,12 +86,18 @@ void SnapshotWriter::write(double t, int dim, const std::vector<double>& x,
 
 void SnapshotWriter::write_index() const {
   const std::string path = dir_ + "/snapshots.xdmf", tmp = path + ".tmp";
+  // std::ofstream, not fmt::output_file: fmt's file flushes in its destructor and
+  // terminates the program when that write fails (disk full)
   {
-    auto out = fmt::output_file(tmp);
-    out.print("<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
-              "<Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
-    for (const auto& grid : index_) out.print("{}", grid);
-    out.print("</Grid>\n</Domain>\n</Xdmf>\n");
+    std::ofstream out(tmp, std::ios::trunc);
+    out << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
+           "<Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+    for (const auto& grid : index_) out << grid;
+    out << "</Grid>\n</Domain>\n</Xdmf>\n";
+    if (!out.flush()) {
+      std::remove(tmp.c_str());
+      throw std::runtime_error(fmt::format("cannot write {} (disk full?)", tmp));
+    }
   }
   std::error_code ec;
   std::filesystem::rename(tmp, path, ec);
