@@ -400,6 +400,7 @@ Scene parse_scene(const std::string& yaml_text, const std::vector<std::string>& 
   }
   if (!r.at("geometry.spacing").IsNull()) s.spacing = r.number("geometry.spacing");
   s.wall_layers = r.integer("geometry.wall_layers");
+  s.jitter = r.number("geometry.jitter");
   s.tank = {r.vec("geometry.tank.lo"), r.vec("geometry.tank.hi")};
   s.open_top = r.at("geometry.tank.open_top").as<bool>();
   for (const auto& b : root["geometry"]["fluid"]) s.fluid.push_back(read_box(b));

@@ -26,6 +26,7 @@ struct Scene {
 
   double spacing = 0;
   int wall_layers = 3;
+  double jitter = 0;  // fluid start positions, over spacing
   Box tank;
   bool open_top = true;
   std::vector<Box> fluid;

@@ -33,7 +33,8 @@ SceneParticles<D> scene_particles(const Scene& s) {
     out.x.insert(out.x.end(), pts.begin(), pts.end());
     out.kind.insert(out.kind.end(), pts.size(), k);
   };
-  for (const auto& b : s.fluid) add(lattice<D>(to_vec<D>(b.lo), to_vec<D>(b.hi), dx), Kind::fluid);
+  for (const auto& b : s.fluid)
+    add(lattice<D>(to_vec<D>(b.lo), to_vec<D>(b.hi), dx, s.jitter * dx), Kind::fluid);
 
   // walls: the shell between the inner box and the box grown by the layers, on the
   // lattice continued from the inner faces (open top: no shell above hi)

@@ -88,6 +88,9 @@ Field make_schema() {
                   integer("wall_layers", "4", 1, 12,
                           "layers of wall particles; at least 2 ceil(2h/dx) - 2 so that wall "
                           "particles near the fluid have full support"),
+                  number("jitter", "", "0", 0, 0.25,
+                         "random offset of each fluid particle along each axis at the start, "
+                         "over spacing (stress tests; reproducible)"),
                   map("tank", true,
                       {
                           vector("lo", "m", "", "lower corner of the inner tank faces"),
