@@ -110,6 +110,8 @@ def run_cell(case, cell):
             result["energy_rise"] = rise
             result["stable"] = rise <= ENERGY_RISE
             result["why"] = "" if result["stable"] else "energy rose"
+    elif p.returncode == 2:
+        result.update(stable=False, why="rejected as input: " + p.stderr.strip().splitlines()[-1][-120:])
     else:
         last = (p.stderr.strip().splitlines() or ["?"])
         why = next((l for l in last if l.startswith("numerical failure")), last[-1])

@@ -118,8 +118,10 @@ Field make_schema() {
                          "coefficient of restitution e (sets the normal dashpot)", true),
                   number("stiffness", "N/m", "1000", 0, inf, "normal spring k_n", true),
                   number("friction", "", "0.2", 0, 10, "Coulomb friction coefficient mu"),
-                  number("dt_safety", "", "0.04", 0, 0.5,
-                         "DEM step over the binary contact time of the lightest pair", true),
+                  number("dt_safety", "", "0.04", 0, 0.1,
+                         "DEM step over the binary contact time of the lightest pair; above 0.1 "
+                         "a contact gets too few steps and strongly damped beds gain energy "
+                         "(docs/stability.md)", true),
                   boolean("rotation", "true", "false: beads do not rotate (torques ignored)"),
                   list("lattice", false,
                        {vector("lo", "m", "", "lower corner"), vector("hi", "m", "", "upper corner")},
