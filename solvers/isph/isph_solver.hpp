@@ -112,13 +112,7 @@ class IsphSolver {
   // The state a step reads (the particles in their current order, the pressure that
   // warm-starts CG, the clock): restoring it continues a run bit-identically.
   void save(Checkpoint& c) const {
-    const auto rows = Kokkos::make_pair(0, n_);
-    c.put("sph/x", Kokkos::subview(p_.x, rows, Kokkos::ALL));
-    c.put("sph/v", Kokkos::subview(p_.v, rows, Kokkos::ALL));
-    c.put("sph/m", Kokkos::subview(p_.m, rows));
-    c.put("sph/kind", Kokkos::subview(p_.kind, rows));
-    c.put("sph/id", Kokkos::subview(p_.id, rows));
-    c.put("sph/pressure", Kokkos::subview(pressure_, rows, Kokkos::ALL));
+    for_each_state_array([&](const char* name, const auto& view) { c.put(name, view); });
     c.set("sph/step", static_cast<double>(info_.step));
     c.set("sph/t", info_.t);
     c.set("sph/dt", info_.dt);
@@ -130,13 +124,7 @@ class IsphSolver {
     if (n > static_cast<int>(p_.x.extent(0)))
       throw std::runtime_error("checkpoint: more particles than the scene makes");
     n_ = p_.n = n;
-    const auto rows = Kokkos::make_pair(0, n_);
-    c.get("sph/x", Kokkos::subview(p_.x, rows, Kokkos::ALL));
-    c.get("sph/v", Kokkos::subview(p_.v, rows, Kokkos::ALL));
-    c.get("sph/m", Kokkos::subview(p_.m, rows));
-    c.get("sph/kind", Kokkos::subview(p_.kind, rows));
-    c.get("sph/id", Kokkos::subview(p_.id, rows));
-    c.get("sph/pressure", Kokkos::subview(pressure_, rows, Kokkos::ALL));
+    for_each_state_array([&](const char* name, const auto& view) { c.get(name, view); });
     info_ = StepInfo{};
     info_.step = static_cast<long>(c.number("sph/step"));
     info_.t = c.number("sph/t");
@@ -147,6 +135,19 @@ class IsphSolver {
   }
 
  private:
+  // The per-particle arrays of the state, rows in use only (views are handles: the
+  // restore writes through them).
+  template <class F>
+  void for_each_state_array(F&& f) const {
+    const auto rows = Kokkos::make_pair(0, n_);
+    f("sph/x", Kokkos::subview(p_.x, rows, Kokkos::ALL));
+    f("sph/v", Kokkos::subview(p_.v, rows, Kokkos::ALL));
+    f("sph/m", Kokkos::subview(p_.m, rows));
+    f("sph/kind", Kokkos::subview(p_.kind, rows));
+    f("sph/id", Kokkos::subview(p_.id, rows));
+    f("sph/pressure", Kokkos::subview(pressure_, rows, Kokkos::ALL));
+  }
+
   void build_stages() {
     const bool reorder = scene_.reorder_every > 0;
     if (scene_.gate) stages_.push_back({"gate", [this] { remove_gate_when_due(); }});
