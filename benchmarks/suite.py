@@ -10,7 +10,8 @@ load that other processes put on the machine while it ran (from /proc/stat less 
 run's own CPU time); with --max-other-load a run made under more load is repeated.
 
 Usage: benchmarks/suite.py [--grid quick|default|full] [--threads N] [--label NAME]
-                           [--only CASE ...] [--build DIR] [--kernels] [--plot-only]"""
+                           [--only CASE ...] [--build DIR] [--kernels | --kernels-only]
+                           [--max-other-load X] [--plot-only]"""
 import argparse
 import csv
 import datetime
@@ -232,12 +233,24 @@ KERNELS = ["bench_neighbor_search", "bench_pressure_poisson", "bench_dem_contact
 
 
 def run_kernels(args, env):
+    """Runs the kernel benchmarks; their load record goes to results/kernels_<label>.json."""
+    log = []
     for prog in KERNELS:
         path = os.path.join(RESULTS, f"{prog[len('bench_'):]}_{args.label}.json")
         # Serial does not depend on the thread count: measured in the 1-thread run only
         cmd = [os.path.join(args.build, "benchmarks", prog), path] + (["--no-serial"] if args.threads > 1 else [])
-        print(f"  {shlex.join(cmd)}  (load {os.getloadavg()[0]:.2f})", flush=True)
-        subprocess.run(cmd, env=env, check=True)
+        load_before = os.getloadavg()[0]
+        code, err, wall, other = run_once(cmd, env)
+        print(f"  {prog}: exit {code}, {wall:.0f} s, other load {other:.2f}", flush=True)
+        if code != 0:
+            print(err, file=sys.stderr)
+        log.append({"program": prog, "exit_code": code, "wall_seconds": round(wall, 1),
+                    "load_average_1min_before": round(load_before, 2), "other_load": round(other, 2),
+                    "date": datetime.date.today().isoformat(),
+                    "command": f"OMP_NUM_THREADS={env['OMP_NUM_THREADS']} OMP_PROC_BIND=false "
+                               + shlex.join(os.path.relpath(c, ROOT) for c in cmd)})
+    with open(os.path.join(RESULTS, f"kernels_{args.label}.json"), "w") as f:
+        json.dump(log, f, indent=1)
 
 
 def main():
@@ -249,6 +262,7 @@ def main():
     ap.add_argument("--build", default=os.path.join(ROOT, "build"), help="build directory")
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "bench"), help="run directories")
     ap.add_argument("--kernels", action="store_true", help="also run the kernel benchmarks")
+    ap.add_argument("--kernels-only", action="store_true", help="run only the kernel benchmarks")
     ap.add_argument("--plot-only", action="store_true", help="only redraw the plots")
     ap.add_argument("--max-other-load", type=float,
                     help="repeat a run made while other processes loaded the machine more than this")
@@ -258,17 +272,20 @@ def main():
     cases = [c for c in CASES if not args.only or c["name"] in args.only]
     if not args.plot_only:
         env = dict(os.environ, OMP_NUM_THREADS=str(args.threads), OMP_PROC_BIND="false")
-        rows = []
-        for case in cases:
-            for spacing, tol in grid_points(case, args.grid):
-                rows.append(run_case(case, spacing, tol, args, env))
-        done = [r for r in rows if r["exit_code"] == 0]
-        if args.label is None:
-            args.label = f"{done[0]['backend'].lower()}{done[0]['threads']}" if done else "failed"
-        for r in rows:
-            r["label"] = args.label
-        write_results(rows, args.label)
-        if args.kernels:
+        if not args.kernels_only:
+            rows = []
+            for case in cases:
+                for spacing, tol in grid_points(case, args.grid):
+                    rows.append(run_case(case, spacing, tol, args, env))
+            done = [r for r in rows if r["exit_code"] == 0]
+            if args.label is None:
+                args.label = f"{done[0]['backend'].lower()}{done[0]['threads']}" if done else "failed"
+            for r in rows:
+                r["label"] = args.label
+            write_results(rows, args.label)
+        if args.kernels or args.kernels_only:
+            if args.label is None:
+                ap.error("--kernels-only needs --label")
             run_kernels(args, env)
     for case in cases:
         plot(case)
