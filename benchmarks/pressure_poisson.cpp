@@ -2,8 +2,9 @@
 // first step of a dam break, 2D and 3D, at about 1e4, 1e5 and 1e6 particles, on Serial
 // and the default execution space:
 //  - the mat-vec q = A p three ways: matrix-free over the cell lists (`cell`),
-//    matrix-free over the stored neighbour list (`list`, what the solver runs), and with
-//    the coefficients stored (`csr`: the off-diagonal Laplacian weights kept in CSR);
+//    matrix-free over the stored neighbour list (`list`, the solver with
+//    numerics.pressure_operator: matrix_free), and with the coefficients stored (`csr`,
+//    the solver's default: solvers/isph/poisson_matrix.hpp);
 //    each for one and for two right-hand sides;
 //  - the solver's PCG with two right-hand sides against two single solves, and a single
 //    solve with the stored coefficients;
@@ -22,7 +23,7 @@
 #include "benchmarks/timer.hpp"
 #include "kernels/wendland_c2.hpp"
 #include "solvers/isph/predictor.hpp"
-#include "solvers/isph/pressure_poisson.hpp"
+#include "solvers/isph/poisson_matrix.hpp"
 #include "src/neighbor_list.hpp"
 #include "src/reorder.hpp"
 #include "src/scene_particles.hpp"
@@ -45,81 +46,6 @@ namespace {
 constexpr Real column_width = 0.05, rho0 = 1000, g_abs = 9.81;
 constexpr Real cg_tolerance = 1e-8;  // the scenes' default
 constexpr int cg_max_iterations = 20000;
-
-// The A of PressurePoisson with its off-diagonal coefficients stored (CSR over the
-// unknown rows, in the list's pair order), so a mat-vec reads a weight instead of
-// recomputing a distance and a kernel derivative.
-template <int D, class Space>
-class StoredPoissonMatrix {
- public:
-  using memory_space = typename Space::memory_space;
-
-  template <class Sweep, class Kernel, class X, class RoleV>
-  void build(const Sweep& sweep, const Kernel& kernel, const X& x, const RoleV& role, Real volume,
-             int n) {
-    offsets_ = Kokkos::View<int*, memory_space>("dvisph::bench::csr::offsets", n + 1);
-    auto offsets = offsets_;
-    const auto range = Kokkos::RangePolicy<Space>(0, n);
-    Kokkos::parallel_for(
-        "dvisph::bench::csr::count", range, KOKKOS_LAMBDA(int i) {
-          int count = 0;
-          if (unknown(role(i)))
-            sweep.for_each(i, row<D>(x, i), [&](int j, const Vec<D>&, Real) {
-              if (unknown(role(j)) && j != i) ++count;
-            });
-          offsets(i + 1) = count;
-        });
-    int total = 0;
-    Kokkos::parallel_scan(
-        "dvisph::bench::csr::prefix_sum", Kokkos::RangePolicy<Space>(0, n + 1),
-        KOKKOS_LAMBDA(int i, int& partial, bool final) {
-          partial += (i == 0 ? 0 : offsets(i));
-          if (final) offsets(i) = partial;
-        },
-        total);
-    columns_ = Kokkos::View<int*, memory_space>("dvisph::bench::csr::columns", total);
-    values_ = Kokkos::View<Real*, memory_space>("dvisph::bench::csr::values", total);
-    auto columns = columns_;
-    auto values = values_;
-    Kokkos::parallel_for(
-        "dvisph::bench::csr::fill", range, KOKKOS_LAMBDA(int i) {
-          if (!unknown(role(i))) return;
-          int a = offsets(i);
-          sweep.for_each(i, row<D>(x, i), [&](int j, const Vec<D>&, Real r) {
-            if (!unknown(role(j)) || j == i) return;
-            columns(a) = j;
-            values(a++) = laplacian_weight<D>(kernel, r, volume);
-          });
-        });
-    nonzeros_ = total;
-  }
-
-  // q = A p for all columns, as PressurePoisson::apply.
-  template <class P, class Diag>
-  void apply(const P& p, const P& q, const Diag& diag, int n) const {
-    const auto offsets = offsets_;
-    const auto columns = columns_;
-    const auto values = values_;
-    const int K = static_cast<int>(p.extent(1));
-    Kokkos::parallel_for(
-        "dvisph::bench::csr::apply", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
-          Real sum[max_rhs] = {};
-          for (int a = offsets(i); a < offsets(i + 1); ++a)
-            for (int k = 0; k < K; ++k) sum[k] += values(a) * p(columns(a), k);
-          for (int k = 0; k < K; ++k) q(i, k) = sum[k] + diag(i) * p(i, k);
-        });
-  }
-
-  long nonzeros() const { return nonzeros_; }
-  Kokkos::View<const int*, memory_space> offsets() const { return offsets_; }
-  Kokkos::View<const int*, memory_space> columns() const { return columns_; }
-  Kokkos::View<const Real*, memory_space> values() const { return values_; }
-
- private:
-  Kokkos::View<int*, memory_space> offsets_, columns_;
-  Kokkos::View<Real*, memory_space> values_;
-  long nonzeros_ = 0;
-};
 
 // <rho>, div r and the sum of |Laplacian weights| at an interior particle of the
 // undisturbed lattice: the references IsphSolver computes (privately) at start.
@@ -263,9 +189,9 @@ bench::Record run(long target_n, const Options& opt, double triad) {
   const PressurePoisson<D, CellSweep<D, Space>, Kernel, decltype(x), decltype(role)> ppe_cell{
       cell_sweep, kernel, x, role, volume, full_diagonal};
   ppe_list.assemble(vstar, rho, rho0, surface_test.rho_ref, g, dt, gamma, diag, b, n);
-  StoredPoissonMatrix<D, Space> csr;
+  PoissonMatrix<Space> csr;
   const auto csr_build = bench::time_it<Space>(
-      [&] { csr.build(list.sweep(), kernel, x, role, volume, n); }, 3);
+      [&] { csr.build(ppe_list, n); }, 3);
 
   // still water, P = rho0 g (2a - z), on the unknown rows
   const Real top = 2 * column_width;

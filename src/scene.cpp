@@ -435,6 +435,7 @@ Scene parse_scene(const std::string& yaml_text, const std::vector<std::string>& 
   s.dt_max = r.number("numerics.dt_max");
   s.cg_tolerance = r.number("numerics.cg_tolerance");
   s.cg_max_iterations = r.integer("numerics.cg_max_iterations");
+  s.pressure_operator = r.text("numerics.pressure_operator");
   s.surface_criterion = r.text("numerics.surface_criterion");
   s.surface_divergence_threshold = r.number("numerics.surface_divergence_threshold");
   s.surface_density_threshold = r.number("numerics.surface_density_threshold");

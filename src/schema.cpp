@@ -163,6 +163,10 @@ Field make_schema() {
                   number("cg_tolerance", "", "1.0e-8", 1e-14, 1e-1,
                          "relative residual at which CG stops"),
                   integer("cg_max_iterations", "2000", 1, 1e6, "CG iteration cap"),
+                  choice("pressure_operator", "stored", {"stored", "matrix_free"},
+                         "how CG applies the PPE matrix: coefficients stored once per step "
+                         "(fast, 12 bytes per neighbour pair) or recomputed from the neighbour "
+                         "list at every iteration (least memory)"),
                   choice("surface_criterion", "position_divergence",
                          {"position_divergence", "density"},
                          "free-surface test (P = 0): div r or summation density against its "

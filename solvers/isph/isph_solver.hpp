@@ -6,7 +6,7 @@
 #include "kernels/summation_density.hpp"
 #include "solvers/isph/corrector.hpp"
 #include "solvers/isph/predictor.hpp"
-#include "solvers/isph/pressure_poisson.hpp"
+#include "solvers/isph/poisson_matrix.hpp"
 #include "solvers/isph/roles.hpp"
 #include "solvers/pcg.hpp"
 #include "src/neighbor_list.hpp"
@@ -48,7 +48,8 @@ class IsphSolver {
       : scene_(s),
         kernel_(s.h_over_dx * s.spacing),
         volume_(std::pow(s.spacing, D)),
-        rho0_(s.density) {
+        rho0_(s.density),
+        store_matrix_(s.pressure_operator == "stored") {
     const auto init = scene_particles<D>(s);
     n_ = static_cast<int>(init.x.size());
     domain_lo_ = init.domain_lo;
@@ -187,9 +188,17 @@ class IsphSolver {
           if (!unknown(role(i)))
             for (int k = 0; k < K; ++k) p(i, k) = 0;
         });
-    const auto result = cg_.solve([&](const auto& x, const auto& y) { ppe.apply(x, y, diag_, n_); },
-                                  diag_, rhs_, pressure_, n_, scene_.cg_tolerance,
-                                  scene_.cg_max_iterations);
+    const auto solve = [&](const auto& apply) {
+      return cg_.solve(apply, diag_, rhs_, pressure_, n_, scene_.cg_tolerance,
+                       scene_.cg_max_iterations);
+    };
+    CgResult result;
+    if (store_matrix_) {
+      matrix_.build(ppe, n_);
+      result = solve([&](const auto& x, const auto& y) { matrix_.apply(x, y, diag_, n_); });
+    } else {
+      result = solve([&](const auto& x, const auto& y) { ppe.apply(x, y, diag_, n_); });
+    }
     info_.cg_iterations = result.iterations;
     info_.cg_residual = result.residual[0];
     if (!result.converged)
@@ -318,6 +327,7 @@ class IsphSolver {
   int nrhs_ = 1;
   int n_ = 0;
   bool gate_removed_ = false;
+  bool store_matrix_;
   std::vector<int> counts_;
 
   Particles<D, Space> p_;
@@ -330,6 +340,7 @@ class IsphSolver {
 
   CellList<D, Space> cells_;
   NeighborList<D, Space> list_;
+  PoissonMatrix<Space> matrix_;  // only filled when the scene stores the PPE matrix
   ConjugateGradient<Space> cg_;
   std::vector<Stage> stages_;
   StepInfo info_;

@@ -67,7 +67,17 @@ struct PressurePoisson {
         });
   }
 
-  // q = A p for all columns.
+  // f(j, A_ij) for each off-diagonal coefficient of row i (none on rows that are not
+  // unknowns); the one definition of the matrix, for apply and for PoissonMatrix.
+  template <class F>
+  KOKKOS_INLINE_FUNCTION void for_each_coefficient(int i, F&& f) const {
+    if (!unknown(role(i))) return;
+    sweep.for_each(i, row<D>(x, i), [&](int j, const Vec<D>&, Real r) {
+      if (unknown(role(j)) && j != i) f(j, laplacian_weight<D>(kernel, r, volume));
+    });
+  }
+
+  // q = A p for all columns (diag is zero on rows that are not unknowns).
   template <class P, class Diag>
   void apply(const P& p, const P& q, const Diag& diag, int n) const {
     const auto self = *this;
@@ -75,15 +85,10 @@ struct PressurePoisson {
     Kokkos::parallel_for(
         "dvisph::pressure_poisson::apply", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
           Real sum[max_rhs] = {};
-          if (unknown(self.role(i))) {
-            self.sweep.for_each(i, row<D>(self.x, i), [&](int j, const Vec<D>&, Real r) {
-              if (!unknown(self.role(j)) || j == i) return;
-              const Real w = laplacian_weight<D>(self.kernel, r, self.volume);
-              for (int k = 0; k < K; ++k) sum[k] += w * p(j, k);
-            });
-            for (int k = 0; k < K; ++k) sum[k] += diag(i) * p(i, k);
-          }
-          for (int k = 0; k < K; ++k) q(i, k) = sum[k];
+          self.for_each_coefficient(i, [&](int j, Real w) {
+            for (int k = 0; k < K; ++k) sum[k] += w * p(j, k);
+          });
+          for (int k = 0; k < K; ++k) q(i, k) = sum[k] + diag(i) * p(i, k);
         });
   }
 };
