@@ -23,6 +23,7 @@
 #include "benchmarks/timer.hpp"
 #include "kernels/wendland_c2.hpp"
 #include "solvers/isph/predictor.hpp"
+#include "solvers/isph/free_surface.hpp"
 #include "solvers/isph/poisson_matrix.hpp"
 #include "src/neighbor_list.hpp"
 #include "src/reorder.hpp"
@@ -46,27 +47,6 @@ namespace {
 constexpr Real column_width = 0.05, rho0 = 1000, g_abs = 9.81;
 constexpr Real cg_tolerance = 1e-8;  // the scenes' default
 constexpr int cg_max_iterations = 20000;
-
-// <rho>, div r and the sum of |Laplacian weights| at an interior particle of the
-// undisturbed lattice: the references IsphSolver computes (privately) at start.
-template <int D, class Kernel>
-SurfaceTest<D> lattice_reference(const Kernel& kernel, Real dx, const Vec<D>& g,
-                                 Real* full_diagonal) {
-  const Real volume = std::pow(dx, D);
-  const int reach = static_cast<int>(std::ceil(kernel.radius() / dx)) + 1;
-  const int reach_z = D == 3 ? reach : 0;
-  Real rho = 0, div_r = 0;
-  *full_diagonal = 0;
-  for (int c2 = -reach_z; c2 <= reach_z; ++c2)
-    for (int c1 = -reach; c1 <= reach; ++c1)
-      for (int c0 = -reach; c0 <= reach; ++c0) {
-        const Real r2 = (c0 * c0 + c1 * c1 + c2 * c2) * dx * dx, r = std::sqrt(r2);
-        rho += rho0 * volume * kernel.W(r);
-        div_r -= volume * kernel.dW_over_r(r) * r2;
-        if (r > 0) *full_diagonal -= laplacian_weight<D>(kernel, r, volume);
-      }
-  return {false, 0.95, 0.75, rho, div_r, rho0, g};
-}
 
 template <int D>
 Scene dam_break_scene(Real dx) {
@@ -153,7 +133,7 @@ bench::Record run(long target_n, const Options& opt, double triad) {
       v("dvisph::bench::ppe::v", n), vstar("dvisph::bench::ppe::vstar", n);
   Kokkos::View<Kind*, Mem> kind0("dvisph::bench::ppe::kind_unsorted", n), kind("dvisph::bench::ppe::kind", n);
   Kokkos::View<Real*, Mem> m("dvisph::bench::ppe::m", n), rho("dvisph::bench::ppe::rho", n),
-      diag("dvisph::bench::ppe::diag", n);
+      invariance("dvisph::bench::ppe::invariance", n), diag("dvisph::bench::ppe::diag", n);
   Kokkos::View<Role*, Mem> role("dvisph::bench::ppe::role", n);
   Kokkos::View<Real**, Mem> b("dvisph::bench::ppe::b", n, 2), guess("dvisph::bench::ppe::guess", n, 2),
       p2("dvisph::bench::ppe::p2", n, 2), q2("dvisph::bench::ppe::q2", n, 2),
@@ -176,10 +156,12 @@ bench::Record run(long target_n, const Options& opt, double triad) {
   const CellSweep<D, Space> cell_sweep(cells, x, kernel.radius());
   NeighborList<D, Space> list;
   list.build(cell_sweep, x, n);
-  Real full_diagonal = 0;
-  const auto surface_test = lattice_reference<D>(kernel, dx, g, &full_diagonal);
+  const auto ref = support_reference<D>(kernel, dx, rho0);
+  const Real full_diagonal = ref.laplacian;
+  const SurfaceTest<D> surface_test{false, 0.95, 0.75, 0.9, 0.98, ref.rho, ref.div_r, rho0, g};
   // no last pressure yet: `guess` is still zero
-  density_and_roles<D>(list.sweep(), kernel, x, m, kind, guess, volume, surface_test, rho, role, n);
+  density_and_roles<D>(list.sweep(), kernel, x, m, kind, guess, volume, surface_test, rho, role,
+                       invariance, n);
   const Real dt = std::min(1e-3, 0.25 * std::sqrt(kernel.h / g_abs));  // IsphSolver's first dt
   predictor<D>(list.sweep(), kernel, x, v, kind, g, 0.0, true, volume, dt, vstar, n);
   const Real gamma[max_rhs] = {0.001, 0.01};
@@ -188,7 +170,7 @@ bench::Record run(long target_n, const Options& opt, double triad) {
   const Ppe ppe_list{list.sweep(), kernel, x, role, volume, full_diagonal};
   const PressurePoisson<D, CellSweep<D, Space>, Kernel, decltype(x), decltype(role)> ppe_cell{
       cell_sweep, kernel, x, role, volume, full_diagonal};
-  ppe_list.assemble(vstar, rho, rho0, surface_test.rho_ref, g, dt, gamma, diag, b, n);
+  ppe_list.assemble(vstar, rho, invariance, rho0, surface_test.rho_ref, g, dt, gamma, diag, b, n);
   PoissonMatrix<Space> csr;
   const auto csr_build = bench::time_it<Space>(
       [&] { csr.build(ppe_list, n); }, 3);

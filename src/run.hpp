@@ -112,14 +112,18 @@ int run(Sim& sim, const Scene& s, const RunOptions& opt) {
     if (!scene_copy.flush()) throw std::runtime_error("cannot write " + out + "/scene.yaml");
   }
   auto series = detail::open_series(out + "/series.csv", "step,t,dt," + sim.series_header(), resume_step);
-  auto record = [&] {
-    series << fmt::format("{},{:.9g},{:.6g},{}\n", sim.step_count(), sim.time(), sim.dt(), sim.series_row());
-  };
+  Kokkos::Timer wall;
+  double last_flush = 0;
   auto flush_series = [&] {
     if (!series.flush()) throw std::runtime_error("cannot write " + out + "/series.csv (disk full?)");
+    last_flush = wall.seconds();
+  };
+  // rows reach the file at least every few seconds, so a long run can be watched
+  auto record = [&] {
+    series << fmt::format("{},{:.9g},{:.6g},{}\n", sim.step_count(), sim.time(), sim.dt(), sim.series_row());
+    if (wall.seconds() - last_flush > 2) flush_series();
   };
 
-  Kokkos::Timer wall;
   const long first_step = sim.step_count();
   const double first_t = sim.time();
   double last_progress = -1;

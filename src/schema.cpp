@@ -177,6 +177,12 @@ Field make_schema() {
                   number("surface_density_threshold", "", "0.95", 0.5, 1.0,
                          "density: <rho> / interior value below which a particle is on the "
                          "free surface"),
+                  number("invariance_support_from", "", "0.9", 0.3, 1.0,
+                         "div r / interior value at and below which a fluid particle's support "
+                         "reaches so far into the air that it gets no density-invariance term"),
+                  number("invariance_support_full", "", "0.98", 0.3, 1.0,
+                         "div r / interior value from which the support counts as full and the "
+                         "density-invariance term applies whole (linear in between)"),
                   integer("reorder_every", "25", 0, 1e9,
                           "steps between reorderings of particles by cell (0: never)"),
               },

@@ -51,8 +51,8 @@ TEST_CASE("hydrostatic tank, 2D, 400 steps", "[isph]") {
     worst_density_error =
         std::max(worst_density_error,
                  double(max_density_error<TestSpace>(solver.density(), solver.pressure(),
-                                                     solver.particles().kind,
-                                                     solver.reference_density(), solver.size())));
+                                                     solver.roles(), solver.reference_density(),
+                                                     solver.size())));
   }
   const auto e = hydrostatic_errors<2>(solver, s);
   WARN("after 400 steps: P error max " << e.max_over_rho_g_H << " rms " << e.rms_over_rho_g_H

@@ -2,6 +2,7 @@
 // the same pressure as Eigen's ConjugateGradient on the assembled sparse matrix, for two
 // right-hand sides at once, on disordered particles with walls and a free surface.
 #include "kernels/cubic_spline.hpp"
+#include "solvers/isph/free_surface.hpp"
 #include "solvers/isph/poisson_matrix.hpp"
 #include "src/neighbor_list.hpp"
 #include "src/scene_particles.hpp"
@@ -39,7 +40,7 @@ geometry:
 
   Kokkos::View<Real* [D], Mem> x("x", n), vstar("vstar", n);
   Kokkos::View<Kind*, Mem> kind("kind", n);
-  Kokkos::View<Real*, Mem> m("m", n), rho("rho", n), diag("diag", n);
+  Kokkos::View<Real*, Mem> m("m", n), rho("rho", n), invariance("invariance", n), diag("diag", n);
   Kokkos::View<Role*, Mem> role("role", n);
   copy_points<D>(init.x, x);
   {
@@ -58,16 +59,16 @@ geometry:
   cells.build(x, n);
   NeighborList<D, TestSpace> list;
   list.build(CellSweep<D, TestSpace>(cells, x, kernel.radius()), x, n);
-  // references from the exact lattice: here simply the densest fluid particle's values
   Kokkos::View<Real**, Mem> b("b", n, 2), p("p", n, 2);
-  const SurfaceTest<D> test{false, 0.95, 0.75, rho0, 2.0, rho0, Vec<D>{{0, -9.81}}};
-  density_and_roles<D>(list.sweep(), kernel, x, m, kind, p, volume, test, rho, role, n);
+  const auto ref = support_reference<D>(kernel, dx, rho0);
+  const SurfaceTest<D> test{false, 0.95, 0.75, 0.9, 0.98, ref.rho, ref.div_r, rho0, Vec<D>{{0, -9.81}}};
+  density_and_roles<D>(list.sweep(), kernel, x, m, kind, p, volume, test, rho, role, invariance, n);
 
   using PPE = PressurePoisson<D, NeighborList<D, TestSpace>::Sweep, CubicSpline<D>, decltype(x),
                               decltype(role)>;
-  const PPE ppe{list.sweep(), kernel, x, role, volume};
+  const PPE ppe{list.sweep(), kernel, x, role, volume, ref.laplacian};
   const Real gamma[max_rhs] = {0.0, 0.5};
-  ppe.assemble(vstar, rho, rho0, rho0, Vec<D>{{0, -9.81}}, dt, gamma, diag, b, n);
+  ppe.assemble(vstar, rho, invariance, rho0, ref.rho, Vec<D>{{0, -9.81}}, dt, gamma, diag, b, n);
   ConjugateGradient<TestSpace> cg;
   const auto result = cg.solve([&](const auto& a, const auto& y) { ppe.apply(a, y, diag, n); },
                                diag, b, p, n, 1e-12, 5000);
@@ -101,6 +102,9 @@ geometry:
   for (int i = 0; i < n; ++i)
     if (unknown(hrole(i))) index[i] = rows++;
   REQUIRE(rows > 100);
+  int surface = 0;
+  for (int i = 0; i < n; ++i) surface += hrole(i) == Role::surface;
+  REQUIRE(surface > 10);
   std::vector<Eigen::Triplet<Real>> triplets;
   for (int i = 0; i < n; ++i) {
     if (index[i] < 0) continue;
@@ -114,7 +118,9 @@ geometry:
       d -= w;
       if (index[j] >= 0) triplets.emplace_back(index[i], index[j], w);
     }
-    triplets.emplace_back(index[i], index[i], d);
+    // the ghost air of the free surface (not on walls)
+    const Real air = hrole(i) == Role::wall ? 0 : 2 * std::max(0.0, ref.laplacian - d);
+    triplets.emplace_back(index[i], index[i], d + air);
   }
   Eigen::SparseMatrix<Real> A(rows, rows);
   A.setFromTriplets(triplets.begin(), triplets.end());

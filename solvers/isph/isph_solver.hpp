@@ -6,6 +6,7 @@
 #include "kernels/summation_density.hpp"
 #include "solvers/isph/corrector.hpp"
 #include "solvers/isph/predictor.hpp"
+#include "solvers/isph/free_surface.hpp"
 #include "solvers/isph/poisson_matrix.hpp"
 #include "solvers/isph/roles.hpp"
 #include "solvers/pcg.hpp"
@@ -69,6 +70,7 @@ class IsphSolver {
     pressure_ = Kokkos::View<Real**, memory_space>("dvisph::sph::pressure", n_, nrhs_);
     rho_ = Kokkos::View<Real*, memory_space>("dvisph::sph::rho", n_);
     role_ = Kokkos::View<Role*, memory_space>("dvisph::sph::role", n_);
+    invariance_ = Kokkos::View<Real*, memory_space>("dvisph::sph::invariance", n_);
     vstar_ = Kokkos::View<Real* [D], memory_space>("dvisph::sph::vstar", n_);
     diag_ = Kokkos::View<Real*, memory_space>("dvisph::sph::diag", n_);
     rhs_ = Kokkos::View<Real**, memory_space>("dvisph::sph::rhs", n_, nrhs_);
@@ -156,7 +158,7 @@ class IsphSolver {
     stages_.push_back({"neighbors", [this] { find_neighbors(); }});
     stages_.push_back({"density_and_roles", [this] {
                          density_and_roles<D>(list_.sweep(), kernel_, p_.x, p_.m, p_.kind, pressure_,
-                                              volume_, surface_test_, rho_, role_, n_);
+                                              volume_, surface_test_, rho_, role_, invariance_, n_);
                        }});
     stages_.push_back({scene_.viscosity > 0 ? "predictor_viscous" : "predictor", [this] {
                          predictor<D>(list_.sweep(), kernel_, p_.x, p_.v, p_.kind, g_,
@@ -178,7 +180,7 @@ class IsphSolver {
   void solve_pressure() {
     const PressurePoisson<D, Sweep, Kernel, decltype(p_.x), decltype(role_)> ppe{
         list_.sweep(), kernel_, p_.x, role_, volume_, full_diagonal_};
-    ppe.assemble(vstar_, rho_, rho0_, rho_ref_, g_, info_.dt, gamma_, diag_, rhs_, n_);
+    ppe.assemble(vstar_, rho_, invariance_, rho0_, rho_ref_, g_, info_.dt, gamma_, diag_, rhs_, n_);
     // warm start: last step's pressure, zero on Dirichlet and excluded rows
     auto p = pressure_;
     auto role = role_;
@@ -283,31 +285,15 @@ class IsphSolver {
     count_kinds();
   }
 
-  // <rho> and div r of an interior particle of the initial lattice: references for the
-  // density-invariance term, the density error and the free-surface test.
+  // Interior values of the initial lattice: references for the density-invariance
+  // term, the density error, the free-surface tests and the ghost air.
   SurfaceTest<D> lattice_reference() {
-    const Real dx = scene_.spacing;
-    const int reach = static_cast<int>(std::ceil(kernel_.radius() / dx)) + 1;
-    Real sum = 0, div_r = 0;
-    full_diagonal_ = 0;
-    int c[3] = {0, 0, 0};
-    std::function<void(int)> loop = [&](int axis) {
-      if (axis == D) {
-        Real r2 = 0;
-        for (int k = 0; k < D; ++k) r2 += c[k] * dx * c[k] * dx;
-        const Real r = std::sqrt(r2);
-        sum += rho0_ * volume_ * kernel_.W(r);
-        div_r -= volume_ * kernel_.dW_over_r(r) * r2;
-        if (r > 0) full_diagonal_ -= laplacian_weight<D>(kernel_, r, volume_);
-        return;
-      }
-      for (c[axis] = -reach; c[axis] <= reach; ++c[axis]) loop(axis + 1);
-    };
-    loop(0);
-    rho_ref_ = sum;
+    const auto ref = support_reference<D>(kernel_, scene_.spacing, rho0_);
+    rho_ref_ = ref.rho;
+    full_diagonal_ = ref.laplacian;
     const bool by_density = scene_.surface_criterion == "density";
     return {by_density, scene_.surface_density_threshold, scene_.surface_divergence_threshold,
-            sum, div_r, rho0_, g_};
+            scene_.invariance_support[0], scene_.invariance_support[1], ref.rho, ref.div_r, rho0_, g_};
   }
 
   void count_kinds() {
@@ -332,7 +318,7 @@ class IsphSolver {
 
   Particles<D, Space> p_;
   Kokkos::View<Real**, memory_space> pressure_, rhs_;
-  Kokkos::View<Real*, memory_space> rho_, diag_;
+  Kokkos::View<Real*, memory_space> rho_, invariance_, diag_;
   Kokkos::View<Role*, memory_space> role_;
   Kokkos::View<Real* [D], memory_space> vstar_;
   Kokkos::View<Kind*, memory_space> kind_scratch_;

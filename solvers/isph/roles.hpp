@@ -1,10 +1,19 @@
 #pragma once
-// Summation density and the role of each particle in the pressure solve:
-//  - fluid particles are unknowns; those on the free surface are marked `surface`
-//    (no density-invariance term: their density deficit is the missing support, not
-//    an error). The surface test (a scene choice) is the position divergence
+// Summation density, the role of each particle in the pressure solve, and the weight
+// of the density-invariance term:
+//  - fluid particles are unknowns; those on the free surface are marked `surface`.
+//    The surface test (a scene choice) is the position divergence
 //    div r = sum_j V (x_j - x_i).grad W_ij (Lee et al. 2008), which measures how much
-//    of the support is empty and is blind to compression, or the summation density;
+//    of the support is empty, or the summation density;
+//  - the density-invariance term of a fluid particle is weighted by how full its
+//    support is: 1 where div r is at least `invariance_full` of its interior value,
+//    0 below `invariance_from`, linear in between (0 on the surface). Where part of
+//    the support is air, <rho> is low because of the air, not because the water
+//    expanded; read as an error, that deficit made the term compress the water under
+//    the surface, the more the larger gamma (docs/stability.md). div r tells the two
+//    apart where <rho> cannot (under uniform compression it rises with <rho>), and
+//    the ramp keeps particles whose div r scatters about a threshold from switching
+//    the term on and off;
 //  - wall particles with no fluid neighbour play no part (excluded);
 //  - a wall particle to which the water pressure, continued hydrostatically from its
 //    fluid neighbours (Shepard average of P_j + rho0 g.(x_w - x_j), last step's P),
@@ -23,16 +32,17 @@ template <int D>
 struct SurfaceTest {
   bool by_density;  // else by position divergence
   Real density_threshold, divergence_threshold;  // fractions of the interior values
+  Real invariance_from, invariance_full;         // fractions of the interior div r
   Real rho_ref, div_r_ref;                       // interior values of <rho> and div r
   Real rho0;
   Vec<D> g;
 };
 
 template <int D, class Sweep, class Kernel, class X, class M, class KindV, class P, class Rho,
-          class RoleV>
+          class RoleV, class Weight>
 void density_and_roles(const Sweep& sweep, const Kernel& kernel, const X& x, const M& m,
                        const KindV& kind, const P& p_last, Real volume, SurfaceTest<D> test,
-                       const Rho& rho, const RoleV& role, int n) {
+                       const Rho& rho, const RoleV& role, const Weight& invariance, int n) {
   using Space = typename Sweep::execution_space;
   // tolerance on the continued pressure: round-off of symmetric sums
   Real gnorm = 0;
@@ -56,10 +66,14 @@ void density_and_roles(const Sweep& sweep, const Kernel& kernel, const X& x, con
           const bool surface = test.by_density ? sum < test.density_threshold * test.rho_ref
                                                : div_r < test.divergence_threshold * test.div_r_ref;
           role(i) = surface ? Role::surface : Role::fluid;
-        } else if (w_fluid == 0) {
-          role(i) = Role::excluded;
+          const Real full = (div_r / test.div_r_ref - test.invariance_from) /
+                            (test.invariance_full - test.invariance_from);
+          invariance(i) = surface ? 0 : math::min(1, math::max(0, full));
         } else {
-          role(i) = p_fluid < -p_tol * w_fluid ? Role::dirichlet : Role::wall;
+          role(i) = w_fluid == 0                   ? Role::excluded
+                    : p_fluid < -p_tol * w_fluid ? Role::dirichlet
+                                                 : Role::wall;
+          invariance(i) = 0;
         }
       });
 }
