@@ -8,19 +8,24 @@ namespace dvisph {
 
 template <int D, class Space>
 class NeighborList {
+  struct Everyone {
+    KOKKOS_INLINE_FUNCTION bool operator()(int) const { return true; }
+  };
+
  public:
   using memory_space = typename Space::memory_space;
 
-  // Lists, for each of the n query points xq(i), the targets of `sweep`.
-  template <class XView>
-  void build(const CellSweep<D, Space>& sweep, const XView& xq, int n) {
+  // Lists, for each of the n query points xq(i) with wanted(i), the targets of `sweep`
+  // (an empty list for the others).
+  template <class XView, class Wanted>
+  void build(const CellSweep<D, Space>& sweep, const XView& xq, int n, const Wanted& wanted) {
     if (static_cast<int>(offsets_.extent(0)) < n + 1)
       offsets_ = Kokkos::View<int*, memory_space>("dvisph::neighbor_list::offsets", n + 1);
     auto offsets = offsets_;
     Kokkos::parallel_for(
         "dvisph::neighbor_list::count", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
           int count = 0;
-          sweep.for_each(i, row<D>(xq, i), [&](int, const Vec<D>&, Real) { ++count; });
+          if (wanted(i)) sweep.for_each(i, row<D>(xq, i), [&](int, const Vec<D>&, Real) { ++count; });
           offsets(i + 1) = count;
         });
     int total = 0;
@@ -39,12 +44,18 @@ class NeighborList {
     Kokkos::parallel_for(
         "dvisph::neighbor_list::fill", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
           int a = offsets(i);
+          if (a == offsets(i + 1)) return;
           sweep.for_each(i, row<D>(xq, i), [&](int j, const Vec<D>&, Real) { neighbors(a++) = j; });
         });
     n_ = n;
     pairs_ = total;
     x_ = sweep.x;
     radius2_ = sweep.radius2;
+  }
+
+  template <class XView>
+  void build(const CellSweep<D, Space>& sweep, const XView& xq, int n) {
+    build(sweep, xq, n, Everyone{});
   }
 
   struct Sweep {

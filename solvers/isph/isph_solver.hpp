@@ -9,6 +9,7 @@
 #include "solvers/isph/free_surface.hpp"
 #include "solvers/isph/poisson_matrix.hpp"
 #include "solvers/isph/roles.hpp"
+#include "solvers/isph/wet_cells.hpp"
 #include "solvers/pcg.hpp"
 #include "src/neighbor_list.hpp"
 #include "src/numerical_error.hpp"
@@ -172,9 +173,11 @@ class IsphSolver {
     stages_.push_back({"move", [this] { move(); }});
   }
 
+  // Lists only for water and the walls near it (wet_cells.hpp).
   void find_neighbors() {
     cells_.build(p_.x, n_);
-    list_.build(CellSweep<D, Space>(cells_, p_.x, kernel_.radius()), p_.x, n_);
+    const auto near_water = wet_cells_.mark(cells_.grid(), p_.x, p_.kind, n_);
+    list_.build(CellSweep<D, Space>(cells_, p_.x, kernel_.radius()), p_.x, n_, near_water);
   }
 
   void solve_pressure() {
@@ -325,6 +328,7 @@ class IsphSolver {
   Kokkos::View<int*, memory_space> id_scratch_;
 
   CellList<D, Space> cells_;
+  WetCells<D, Space> wet_cells_;
   NeighborList<D, Space> list_;
   PoissonMatrix<Space> matrix_;  // only filled when the scene stores the PPE matrix
   ConjugateGradient<Space> cg_;

@@ -1,0 +1,63 @@
+#pragma once
+// The cells of the neighbour grid that hold water, and which particles lie within one
+// cell of them. A wall particle farther from the water than the kernel radius has no
+// part in a step (role excluded), and in a tank such particles are most of the walls
+// (3D dam break, dx = 3 mm: 46 000 wall particles for 8 400 fluid ones); they get no
+// neighbour list. Cells are at least a kernel radius wide, so every particle with a
+// fluid neighbour is near a wet cell.
+#include "src/cell_list.hpp"
+
+namespace dvisph {
+
+template <int D, class Space>
+class WetCells {
+ public:
+  using memory_space = typename Space::memory_space;
+
+  // Whether particle i is water or has a wet cell among its own and the adjacent cells.
+  template <class X, class KindV>
+  struct Near {
+    Grid<D> grid;
+    Kokkos::View<const int*, memory_space> wet;
+    X x;
+    KindV kind;
+    KOKKOS_INLINE_FUNCTION bool operator()(int i) const {
+      if (kind(i) == Kind::fluid) return true;
+      int lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+      for (int k = 0; k < D; ++k) {
+        const int c = grid.clamp(grid.coord(x(i, k), k), k);
+        lo[k] = grid.clamp(c - 1, k);
+        hi[k] = grid.clamp(c + 1, k);
+      }
+      const int nx = grid.ncell[0];
+      const int ny = D > 1 ? grid.ncell[1] : 1;
+      for (int cz = lo[2]; cz <= hi[2]; ++cz)
+        for (int cy = lo[1]; cy <= hi[1]; ++cy)
+          for (int cx = lo[0]; cx <= hi[0]; ++cx)
+            if (wet((cz * ny + cy) * nx + cx)) return true;
+      return false;
+    }
+  };
+
+  // Counts the fluid particles among the first n in each cell.
+  template <class X, class KindV>
+  Near<X, KindV> mark(const Grid<D>& grid, const X& x, const KindV& kind, int n) {
+    if (static_cast<int>(wet_.extent(0)) != grid.size())
+      wet_ = Kokkos::View<int*, memory_space>("dvisph::wet_cells", grid.size());
+    auto wet = wet_;
+    Kokkos::deep_copy(Space(), wet, 0);
+    Kokkos::parallel_for(
+        "dvisph::wet_cells::mark", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
+          if (kind(i) != Kind::fluid) return;
+          Real xi[D];
+          for (int k = 0; k < D; ++k) xi[k] = x(i, k);
+          Kokkos::atomic_increment(&wet(grid.cell_of(xi)));
+        });
+    return {grid, wet_, x, kind};
+  }
+
+ private:
+  Kokkos::View<int*, memory_space> wet_;
+};
+
+}  // namespace dvisph
