@@ -13,9 +13,11 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 CASES = [  # scene, acceptance (text), figures from summary.json metrics
     ("hydrostatic_2d", "P within 1 % of rho g (H - y) below the top two layers; "
      "max density error < 1 % over 5 000 steps; no particle lost",
-     ["pressure_max_error_over_rho_g_H", "pressure_rms_error_over_rho_g_H", "max_density_error"]),
+     ["pressure_max_error_over_rho_g_H", "pressure_rms_error_over_rho_g_H",
+      "pressure_max_pointwise_relative_error", "max_density_error"]),
     ("hydrostatic_3d", "P within 1 % of rho g (H - y) below the top two layers; no particle lost",
-     ["pressure_max_error_over_rho_g_H", "pressure_rms_error_over_rho_g_H", "max_density_error"]),
+     ["pressure_max_error_over_rho_g_H", "pressure_rms_error_over_rho_g_H",
+      "pressure_max_pointwise_relative_error", "max_density_error"]),
     ("dam_break_2d", "front RMS deviation from Martin & Moyce, T in [1, 3]: goal 5 %, limit 10 %",
      ["front_rms_deviation_T1_3", "front_best_lag_T", "front_rms_deviation_T1_3_after_lag",
       "max_density_error"]),
@@ -29,9 +31,16 @@ NOTES = """`front_best_lag_T` is the shift in T of the simulated front that fits
 Moyce best and `..._after_lag` the deviation left after it: the simulated fronts have
 the measured shape and lead the data by about 0.2-0.3 in T (10-15 ms at a = 5 cm),
 which is the size of the delay usually put down to the gate opening in the experiment.
-The density error is the largest over submerged particles (P >= 100 Pa) and the whole
-run; with gamma = 0.001 (the paper's conventional value) it reaches 8-12 % in the dam
-breaks, which is what the dual-velocity method is meant to fix.
+The deviation grows with resolution (2D a/dx = 20: 12.3 %, 40: 15.0 %): the finer
+front converges to a faster one, not to the data.
+The density error is the largest over submerged particles (P >= 100 Pa, surface
+particles left out) and the whole run, with gamma = 0.1 (the default since the
+density-invariance term is weighted by how full the support is; docs/isph.md). With
+gamma = 0.001 the 2D tank gave 1.09 % (still above 1 %) and the dam breaks 8-12 %.
+The hydrostatic `pressure_max_pointwise_relative_error` is |P - rho g (H - y)| /
+(rho g (H - y)) at its worst below the top two layers, with H the nominal water height;
+it sits in the third layer, where rho g (H - y) is 60-80 Pa and a settling of the
+column by a few tenths of a millimetre shifts P by 1-2 Pa.
 
 """
 

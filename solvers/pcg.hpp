@@ -145,6 +145,8 @@ class ConjugateGradient {
     return result;
   }
 
+  std::size_t bytes() const { return view_bytes(r_, z_, p_, q_); }
+
  private:
   Vectors r_, z_, p_, q_;
 };

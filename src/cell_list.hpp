@@ -73,6 +73,7 @@ class CellList {
 
   const Grid<D>& grid() const { return grid_; }
   int size() const { return n_; }
+  std::size_t bytes() const { return view_bytes(offsets_, counts_, permutation_, cell_of_); }
   // Particle indices ordered by cell: a permutation that sorts particles for locality.
   Kokkos::View<int*, memory_space> permutation() const {
     return Kokkos::subview(permutation_, Kokkos::make_pair(0, n_));

@@ -109,10 +109,12 @@ class IsphRun {
     return fmt::format(
         "  \"kernel\": \"{}\",\n  \"particles\": {{\"fluid\": {}, \"wall\": {}, \"gate\": {}}},\n"
         "  \"pairs\": {},\n  \"pair_interactions_per_second\": {:.4g},\n  \"cg_iterations_mean\": {:.2f},\n"
-        "  \"cg_iterations_max\": {},\n  \"stage_seconds\": {{{}}},\n",
+        "  \"cg_iterations_max\": {},\n  \"stage_seconds\": {{{}}},\n"
+        "  \"memory_bytes\": {},\n  \"memory_bytes_per_particle\": {:.0f},\n",
         Kernel::name, solver_.count(Kind::fluid), solver_.count(Kind::wall),
         solver_.count(Kind::gate), solver_.pairs(), pair_visits_ / std::max(step_seconds, 1e-30),
-        double(cg_total_) / steps, cg_max_, stage_times);
+        double(cg_total_) / steps, cg_max_, stage_times, solver_.memory_bytes(),
+        double(solver_.memory_bytes()) / std::max(1, solver_.size()));
   }
 
   std::string metrics() const {

@@ -84,7 +84,7 @@ class NeighborList {
   Sweep sweep() const { return Sweep{offsets_, neighbors_, x_, radius2_}; }
 
   long pairs() const { return pairs_; }
-  std::size_t bytes() const { return (offsets_.extent(0) + neighbors_.extent(0)) * sizeof(int); }
+  std::size_t bytes() const { return view_bytes(offsets_, neighbors_); }
 
  private:
   int n_ = 0;

@@ -156,7 +156,7 @@ Field make_schema() {
                          "smoothing kernel (Wendland C2 keeps a square lattice under pressure "
                          "from rearranging)"),
                   number("h_over_dx", "", "1.5", 1.0, 2.5, "smoothing length over spacing"),
-                  number("gamma", "", "0.001", 0, 1,
+                  number("gamma", "", "0.1", 0, 1,
                          "density-invariance (stabilization) parameter of the PPE"),
                   number("cfl", "", "0.25", 0, 1, "Courant number on h / max|v|", true),
                   number("dt_max", "s", "1.0e-3", 0, inf, "largest time step", true),

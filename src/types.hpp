@@ -75,6 +75,12 @@ KOKKOS_INLINE_FUNCTION Vec<D> row(const View& v, int i) {
   return r;
 }
 
+// Bytes allocated by the given views (their spans), for memory accounting.
+template <class... Views>
+std::size_t view_bytes(const Views&... views) {
+  return (std::size_t{0} + ... + (views.span() * sizeof(typename Views::value_type)));
+}
+
 // What a particle is. A gate is a wall that a scene removes at a given time.
 enum class Kind : std::uint8_t { fluid = 0, wall = 1, gate = 2, solid = 3 };
 KOKKOS_INLINE_FUNCTION bool is_wall(Kind k) { return k == Kind::wall || k == Kind::gate; }

@@ -111,6 +111,12 @@ class IsphSolver {
   Real reference_density() const { return rho_ref_; }
   long pairs() const { return list_.pairs(); }
   const Kernel& kernel() const { return kernel_; }
+  // Memory the solver holds in its memory space (the largest it has been), all arrays.
+  std::size_t memory_bytes() const {
+    return view_bytes(p_.x, p_.v, p_.m, p_.kind, p_.id, pressure_, rhs_, rho_, invariance_, diag_,
+                      role_, vstar_, kind_scratch_, id_scratch_) +
+           cells_.bytes() + wet_cells_.bytes() + list_.bytes() + matrix_.bytes() + cg_.bytes();
+  }
   const Scene& scene() const { return scene_; }
 
   // The state a step reads (the particles in their current order, the pressure that

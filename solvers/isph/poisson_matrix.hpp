@@ -73,9 +73,7 @@ class PoissonMatrix {
   }
 
   long nonzeros() const { return nonzeros_; }
-  std::size_t bytes() const {
-    return offsets_.extent(0) * sizeof(int) + columns_.extent(0) * (sizeof(int) + sizeof(Real));
-  }
+  std::size_t bytes() const { return view_bytes(offsets_, columns_, values_); }
   Kokkos::View<const int*, memory_space> offsets() const { return offsets_; }
   Kokkos::View<const int*, memory_space> columns() const { return columns_; }
   Kokkos::View<const Real*, memory_space> values() const { return values_; }

@@ -56,6 +56,8 @@ class WetCells {
     return {grid, wet_, x, kind};
   }
 
+  std::size_t bytes() const { return view_bytes(wet_); }
+
  private:
   Kokkos::View<int*, memory_space> wet_;
 };
