@@ -139,6 +139,7 @@ def run_case(case, spacing, tol, args, env):
         cg_iterations_mean=s["cg_iterations_mean"], cg_iterations_max=s["cg_iterations_max"],
         pair_interactions_per_second=s.get("pair_interactions_per_second"),
         max_density_error=m.get("max_density_error"),
+        memory_bytes_per_particle=s.get("memory_bytes_per_particle"),
         stage_seconds=s.get("stage_seconds", {}))
     for key, _ in case["errors"]:
         row[key] = m.get(key)

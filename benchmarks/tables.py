@@ -50,7 +50,7 @@ def suite_tables(labels):
         for r in data["runs"]:
             if r["exit_code"] != 0:
                 rows.append([r["case"], f"{r['resolution']:g}", f"{r['cg_tolerance']:.0e}", "failed",
-                             f"exit {r['exit_code']}: {r.get('error', '')[:60]}", "", "", "", "", "", "",
+                             f"exit {r['exit_code']}: {r.get('error', '')[:60]}", "", "", "", "", "", "", "",
                              fmt(r["other_load"], ".2f")])
                 continue
             st = r["stage_seconds"]
@@ -63,10 +63,11 @@ def suite_tables(labels):
                 f"{r['ns_per_particle_step']:.0f}", fmt(r.get("pair_interactions_per_second"), ".3g"),
                 f"{fmt(r.get('front_rms_deviation_T1_3'), '.4f')} / {fmt(r.get('front_rms_deviation_T1_3_after_lag'), '.4f')}",
                 fmt(r.get("density_error_p95"), ".4f"),
-                f"{100 * ppe:.0f} % / {100 * nb:.0f} %", fmt(r["other_load"], ".2f")])
+                f"{100 * ppe:.0f} % / {100 * nb:.0f} %", fmt(r.get("memory_bytes_per_particle"), ".0f"),
+                fmt(r["other_load"], ".2f")])
         print(table(["case", "a/dx", "CG tol", "particles", "steps", "wall s", "CG it/step",
                      "ns/particle-step", "pairs/s", "front RMS / after lag", "density p95",
-                     "PPE / neighbours share", "other load"], rows))
+                     "PPE / neighbours share", "bytes/particle", "other load"], rows))
         cmds = sorted({r["command"].split(" --out ")[0] for r in data["runs"]})
         print("\nCommands (one per run, with `--out DIR --quiet --set ...` as listed in the JSON): "
               + "; ".join(f"`{c}`" for c in cmds))
@@ -161,8 +162,8 @@ def targets(labels):
             best[r["n"]] = r
     for n, r in sorted(best.items()):
         per_unknown = r["n"] / r["unknowns"]
-        for key, name in (("matvec_list_ns_per_particle", "list (solver)"),
-                          ("matvec_csr_ns_per_particle", "stored coefficients")):
+        for key, name in (("matvec_list_ns_per_particle", "list (matrix_free)"),
+                          ("matvec_csr_ns_per_particle", "stored coefficients (solver default)")):
             v = r[key]
             rows.append([f"3D PPE mat-vec, {name}, {n:,} particles, 2 threads", f"<= {MATVEC_3D_NS} ns/particle",
                          f"{v:.1f} ({v * per_unknown:.1f} per unknown)",
