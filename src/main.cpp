@@ -91,6 +91,7 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "error: {}: cannot load the scene: {}\n", scene_path, e.what());
     return failure;
   }
+  for (const auto& w : dvisph::scene_warnings(scene)) fmt::print(stderr, "warning: {}\n", w);
   if (check_only) {
     fmt::print("{}: valid ({}D scene '{}')\n", scene_path, scene.dimension, scene.name);
     return ok;

@@ -461,6 +461,22 @@ Scene parse_scene(const std::string& yaml_text, const std::vector<std::string>& 
   return s;
 }
 
+std::vector<std::string> scene_warnings(const Scene& s) {
+  std::vector<std::string> out;
+  const char* axes = "xyz";
+  for (std::size_t b = 0; b < s.fluid.size(); ++b)
+    for (int k = 0; k < s.dimension; ++k) {
+      const double side = s.fluid[b].hi[k] - s.fluid[b].lo[k];
+      const double layers = lattice_sites(side, s.spacing);
+      if (side - layers * s.spacing > 1e-6 * s.spacing)
+        out.push_back(fmt::format(
+            "geometry.fluid[{}] is {:g} m along {}, {:.4g} spacings of {:g} m: the lattice fills {:g} "
+            "of them ({:g} m)",
+            b, side, axes[k], side / s.spacing, s.spacing, layers, layers * s.spacing));
+    }
+  return out;
+}
+
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
   std::ifstream in(path);
   if (!in) throw SceneError(fmt::format("cannot read scene file '{}'", path));

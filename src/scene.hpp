@@ -75,4 +75,8 @@ struct Scene {
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
 Scene parse_scene(const std::string& yaml_text, const std::vector<std::string>& overrides = {});
 
+// What a valid scene may not mean as written (e.g. a fluid box that is not a whole
+// number of spacings: the lattice fills less of it). One line each.
+std::vector<std::string> scene_warnings(const Scene& s);
+
 }  // namespace dvisph
