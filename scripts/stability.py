@@ -92,7 +92,7 @@ FINDINGS = {
         "steps (series.csv): the term corrects particle-scale density errors in one step, "
         "where the Morris Laplacian and the divergence of the symmetric gradient disagree, so "
         "it overshoots; without jitter at h/dx >= 1.5 and CFL <= 0.25 they stay at 6.5-7.5 %. "
-        "h/dx = 1.2 with gamma >= 0.5 diverges (2 of 6 cells: CG, a particle thrown out). "
+        "h/dx = 1.2 with gamma >= 0.5 diverges in 3 of its 12 cells (all at CFL 0.1: CG, a particle thrown out). "
         "The dual-velocity method's beta = 0.5 acts on the transport velocity only; whether "
         "that overshoot matters there is for that issue to measure. CFL 0.5 costs 1-5 points "
         "of density error at every gamma.",
