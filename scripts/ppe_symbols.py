@@ -1,0 +1,37 @@
+#!/usr/bin/python3
+"""How far one density-invariance correction can overshoot on a regular lattice.
+
+On a lattice of spacing dx (volume dx^D, Wendland C2), a Fourier mode k of the pressure
+is scaled by the Morris Laplacian L with the symbol l(k) = -sum_m w(m) (1 - cos k.m), and
+the divergence of the symmetric gradient D G (what moves the particles and changes their
+summation density) by -|s(k)|^2, s(k) = sum_m sin(k.m) grad W(m). A correction with
+gamma removes gamma |s|^2 / |l| of a density error of mode k in one step, so it
+overshoots where gamma R(k) > 1 and grows where gamma R(k) > 2, R = |s|^2 / |l|. Prints
+max R over the Brillouin zone for 2D and 3D and several h/dx.
+Usage: scripts/ppe_symbols.py"""
+import numpy as np
+
+
+def dW(r, h, D):
+    q = r / h
+    a = 7 / (4 * np.pi * h * h) if D == 2 else 21 / (16 * np.pi * h ** 3)
+    return np.where(q < 2, a * (-5 * q * (1 - q / 2) ** 3) / h, 0)
+
+
+for D, hs in ((2, (1.2, 1.3, 1.5, 1.6)), (3, (1.2, 1.5, 1.6))):
+    for h in hs:
+        reach = int(np.ceil(2 * h)) + 1
+        axis = np.arange(-reach, reach + 1)
+        m = np.array(np.meshgrid(*[axis] * D, indexing="ij")).reshape(D, -1).T.astype(float)
+        r = np.linalg.norm(m, axis=1)
+        m, r = m[r > 0], r[r > 0]
+        grad = (dW(r, h, D) / r)[:, None] * m
+        w = 2 * dW(r, h, D) * r / (r * r + 0.01 * h * h)
+        ks = np.linspace(0, np.pi, 41 if D == 2 else 17)[1:]
+        K = np.array(np.meshgrid(*[ks] * D, indexing="ij")).reshape(D, -1).T
+        km = K @ m.T
+        s2 = ((np.sin(km) @ grad) ** 2).sum(1)
+        l = -(w[None, :] * (1 - np.cos(km))).sum(1)
+        R = s2 / l
+        i = np.argmax(R)
+        print(f"{D}D h/dx = {h}: max |DG| / |L| = {R[i]:.3f} at k dx / pi = {np.round(K[i] / np.pi, 2)}")
