@@ -51,7 +51,7 @@ TEST_CASE("hydrostatic tank, 2D, 400 steps", "[isph]") {
     worst_density_error =
         std::max(worst_density_error,
                  double(max_density_error<TestSpace>(solver.density(), solver.pressure(),
-                                                     solver.roles(), solver.reference_density(),
+                                                     solver.invariance(), solver.reference_density(),
                                                      solver.size())));
   }
   const auto e = hydrostatic_errors<2>(solver, s);

@@ -108,6 +108,8 @@ class IsphSolver {
   Kokkos::View<const Real**, memory_space> pressure() const { return pressure_; }
   Kokkos::View<const Real*, memory_space> density() const { return rho_; }
   Kokkos::View<const Role*, memory_space> roles() const { return role_; }
+  // weight of the density-invariance term: 0 where the support reaches into the air
+  Kokkos::View<const Real*, memory_space> invariance() const { return invariance_; }
   Real reference_density() const { return rho_ref_; }
   long pairs() const { return list_.pairs(); }
   const Kernel& kernel() const { return kernel_; }
