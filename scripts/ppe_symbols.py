@@ -1,5 +1,7 @@
 #!/usr/bin/python3
-"""How far one density-invariance correction can overshoot on a regular lattice.
+"""Lattice facts behind the PPE choices (docs/isph.md, docs/stability.md).
+
+1. How far one density-invariance correction can overshoot on a regular lattice.
 
 On a lattice of spacing dx (volume dx^D, Wendland C2), a Fourier mode k of the pressure
 is scaled by the Morris Laplacian L with the symbol l(k) = -sum_m w(m) (1 - cos k.m), and
@@ -8,6 +10,8 @@ summation density) by -|s(k)|^2, s(k) = sum_m sin(k.m) grad W(m). A correction w
 gamma removes gamma |s|^2 / |l| of a density error of mode k in one step, so it
 overshoots where gamma R(k) > 1 and grows where gamma R(k) > 2, R = |s|^2 / |l|. Prints
 max R over the Brillouin zone for 2D and 3D and several h/dx.
+2. What a flat free surface takes from the support of the layers below it, and how
+much the same sums scatter on a jittered lattice (the invariance weight reads div r).
 Usage: scripts/ppe_symbols.py"""
 import numpy as np
 
@@ -35,3 +39,38 @@ for D, hs in ((2, (1.2, 1.3, 1.5, 1.6)), (3, (1.2, 1.5, 1.6))):
         R = s2 / l
         i = np.argmax(R)
         print(f"{D}D h/dx = {h}: max |DG| / |L| = {R[i]:.3f} at k dx / pi = {np.round(K[i] / np.pi, 2)}")
+
+# What a flat free surface takes from a lattice particle's support, `layer` rows below the
+# top row: the summation density (Shepard sum), the position divergence div r and the sum
+# of Morris weights (the PPE diagonal), as fractions of the interior values; and how much
+# these three scatter in the interior of a lattice jittered by +-0.1 dx per axis.
+print()
+for D in (2, 3):
+    h = 1.5
+    reach = int(np.ceil(2 * h)) + 1
+    axis = np.arange(-reach, reach + 1)
+    m = np.array(np.meshgrid(*[axis] * D, indexing="ij")).reshape(D, -1).T.astype(float)
+
+    def sums(p):
+        r = np.linalg.norm(p, axis=1)
+        q = r / h
+        a = 7 / (4 * np.pi * h * h) if D == 2 else 21 / (16 * np.pi * h ** 3)
+        W = np.where(q < 2, a * (1 - q / 2) ** 4 * (2 * q + 1), 0)
+        div_r = -dW(r, h, D) * r
+        lap = np.where(r > 0, -2 * dW(r, h, D) * r / (r * r + 0.01 * h * h), 0)
+        return np.array([W.sum(), div_r.sum(), lap.sum()])
+
+    full = sums(m)
+    for layer in (0, 1):
+        d = 1 - sums(m[m[:, -1] <= layer]) / full
+        print(f"{D}D h/dx = {h}, layer {layer} below the surface: deficit of <rho> {100 * d[0]:.2f} %, "
+              f"div r {100 * d[1]:.2f} %, Morris diagonal {100 * d[2]:.2f} %")
+    rng = np.random.default_rng(1)
+    centre = len(m) // 2
+    scatter = []
+    for _ in range(400):
+        p = m + rng.uniform(-0.1, 0.1, m.shape)
+        scatter.append(1 - sums(p - p[centre]) / full)
+    sd = 100 * np.std(scatter, axis=0)
+    print(f"{D}D jitter 0.1 dx, interior scatter (std): <rho> {sd[0]:.2f} %, div r {sd[1]:.2f} %, "
+          f"Morris diagonal {sd[2]:.2f} %")

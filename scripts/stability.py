@@ -95,8 +95,9 @@ FINDINGS = {
         "(the same figure at every CFL) and then lowers it. On a regular lattice one "
         "correction cannot overshoot: the divergence of the symmetric gradient never scales "
         "a mode by more than the Morris Laplacian does (ratio <= 1.004, scripts/ppe_symbols.py); "
-        "on disordered particles the Morris pair weights are off by 30-60 % (session-1 "
-        "operator tests), so a full one-step correction is mis-sized at the particle scale. "
+        "on disordered particles that bound is lost (the Morris Laplacian is not the "
+        "divergence of the symmetric gradient there), so a full one-step correction is "
+        "mis-sized at the particle scale. "
         "Next: the gamma part of the solve with the D G operator itself, or a consistent "
         "Laplacian. CFL 0.5 costs 1-5 points of density error at every gamma.",
     "hydrostatic_2d":

@@ -36,13 +36,15 @@ class IsphRun {
     const auto& p = solver_.particles();
     const auto& info = solver_.info();
     const double front = front_position<Space>(p.x, p.kind, solver_.size()) - s_.tank.lo[0];
-    const double derr = max_density_error<Space>(solver_.density(), solver_.pressure(), solver_.invariance(),
-                                                 solver_.reference_density(), solver_.size());
+    const double derr = max_density_error<Space>(solver_.density(), solver_.pressure(),
+                                                 solver_.invariance(), solver_.reference_density(),
+                                                 solver_.size());
     if (info.step > 0) max_density_error_ = std::max(max_density_error_, derr);
     if (info.step > 0)
       density_error_p95_ = std::max(
-          density_error_p95_, density_error_p95<Space>(solver_.density(), solver_.pressure(), solver_.invariance(),
-                                                        solver_.reference_density(), solver_.size()));
+          density_error_p95_,
+          density_error_p95<Space>(solver_.density(), solver_.pressure(), solver_.invariance(),
+                                   solver_.reference_density(), solver_.size()));
     if (dam_break_) {
       front_.T.push_back(info.t * std::sqrt(2 * g_ / s_.column_width));
       front_.Z.push_back(front / s_.column_width);

@@ -2,6 +2,7 @@
 // A stored neighbour list (CSR), built once from a CellSweep and then swept many
 // times in one step (e.g. by the CG iterations). Same for_each interface as
 // CellSweep, same pair order, so the two are interchangeable in every kernel.
+#include "src/csr_rows.hpp"
 #include "src/neighbor_sweep.hpp"
 
 namespace dvisph {
@@ -19,27 +20,16 @@ class NeighborList {
   // (an empty list for the others).
   template <class XView, class Wanted>
   void build(const CellSweep<D, Space>& sweep, const XView& xq, int n, const Wanted& wanted) {
-    if (static_cast<int>(offsets_.extent(0)) < n + 1)
-      offsets_ = Kokkos::View<int*, memory_space>("dvisph::neighbor_list::offsets", n + 1);
-    auto offsets = offsets_;
-    Kokkos::parallel_for(
-        "dvisph::neighbor_list::count", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
+    const int total = csr_offsets<Space>(
+        offsets_, n,
+        KOKKOS_LAMBDA(int i) {
           int count = 0;
           if (wanted(i)) sweep.for_each(i, row<D>(xq, i), [&](int, const Vec<D>&, Real) { ++count; });
-          offsets(i + 1) = count;
-        });
-    int total = 0;
-    Kokkos::parallel_scan(
-        "dvisph::neighbor_list::prefix_sum", Kokkos::RangePolicy<Space>(0, n + 1),
-        KOKKOS_LAMBDA(int i, int& partial, bool final) {
-          partial += (i == 0 ? 0 : offsets(i));
-          if (final) offsets(i) = partial;
+          return count;
         },
-        total);
-    if (static_cast<int>(neighbors_.extent(0)) < total)
-      neighbors_ = Kokkos::View<int*, memory_space>(
-          Kokkos::view_alloc(Kokkos::WithoutInitializing, "dvisph::neighbor_list::neighbors"),
-          total + total / 8);
+        "dvisph::neighbor_list");
+    reserve_entries(neighbors_, total, "dvisph::neighbor_list::neighbors");
+    auto offsets = offsets_;
     auto neighbors = neighbors_;
     Kokkos::parallel_for(
         "dvisph::neighbor_list::fill", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {

@@ -41,27 +41,50 @@ TEST_CASE("a scene runs only the stages it needs", "[isph]") {
                                                    "corrector", "move"});
 }
 
-TEST_CASE("hydrostatic tank, 2D, 400 steps", "[isph]") {
-  const Scene s = parse_scene(tank_2d);
+namespace {
+struct TankResult {
+  HydrostaticErrors errors;
+  double worst_density_error = 0;
+  bool kept_all = false;
+};
+
+TankResult run_tank(const std::vector<std::string>& overrides, int steps) {
+  const Scene s = parse_scene(tank_2d, overrides);
   IsphSolver<2, WendlandC2<2>, TestSpace> solver(s);
   const int fluid = solver.count(Kind::fluid);
-  double worst_density_error = 0;
-  for (int step = 0; step < 400; ++step) {
+  TankResult r;
+  for (int step = 0; step < steps; ++step) {
     solver.step();  // throws if a particle leaves the domain or CG fails
-    worst_density_error =
-        std::max(worst_density_error,
+    r.worst_density_error =
+        std::max(r.worst_density_error,
                  double(max_density_error<TestSpace>(solver.density(), solver.pressure(),
                                                      solver.invariance(), solver.reference_density(),
                                                      solver.size())));
   }
-  const auto e = hydrostatic_errors<2>(solver, s);
-  WARN("after 400 steps: P error max " << e.max_over_rho_g_H << " rms " << e.rms_over_rho_g_H
-                                       << " of rho g H; max density error " << worst_density_error
-                                       << "; max speed " << solver.info().max_speed << " m/s");
-  CHECK(solver.count(Kind::fluid) == fluid);
-  CHECK(e.checked > 300);
-  CHECK(e.max_over_rho_g_H < 0.01);
-  CHECK(worst_density_error < 0.01);
+  r.errors = hydrostatic_errors<2>(solver, s);
+  r.kept_all = solver.count(Kind::fluid) == fluid;
+  WARN("after " << steps << " steps: P error max " << r.errors.max_over_rho_g_H << " rms "
+                << r.errors.rms_over_rho_g_H << " of rho g H; max density error "
+                << r.worst_density_error << "; max speed " << solver.info().max_speed << " m/s");
+  return r;
+}
+}  // namespace
+
+TEST_CASE("hydrostatic tank, 2D, 400 steps", "[isph]") {
+  const auto r = run_tank({}, 400);
+  CHECK(r.kept_all);
+  CHECK(r.errors.checked > 300);
+  CHECK(r.errors.max_over_rho_g_H < 0.01);
+  CHECK(r.worst_density_error < 0.01);
+}
+
+// Full density invariance (gamma = 1) must keep still water at its density: before the
+// term was weighted by how full the support is, it compressed the water under the free
+// surface and this tank reached 19-23 % after 1 000 steps (docs/stability.md).
+TEST_CASE("hydrostatic tank, 2D, gamma = 1, 400 steps", "[isph]") {
+  const auto r = run_tank({"numerics.gamma=1"}, 400);
+  CHECK(r.kept_all);
+  CHECK(r.worst_density_error < 0.01);
 }
 
 // Coarse dam break (a/dx = 20) to T = 2.6. The bound is the deviation measured when

@@ -6,6 +6,7 @@
 // per pair (3D: ~1.4 kB per particle). The matrix-free operator stays the choice where
 // memory is short (numerics.pressure_operator).
 #include "solvers/isph/pressure_poisson.hpp"
+#include "src/csr_rows.hpp"
 
 namespace dvisph {
 
@@ -17,36 +18,21 @@ class PoissonMatrix {
   // The coefficients of `ppe`'s operator over its first n particles (diag from assemble).
   template <class Ppe>
   void build(const Ppe& ppe, int n) {
-    if (static_cast<int>(offsets_.extent(0)) < n + 1)
-      offsets_ = Kokkos::View<int*, memory_space>("dvisph::poisson_matrix::offsets", n + 1);
-    auto offsets = offsets_;
-    const auto range = Kokkos::RangePolicy<Space>(0, n);
-    Kokkos::parallel_for(
-        "dvisph::poisson_matrix::count", range, KOKKOS_LAMBDA(int i) {
+    const int total = csr_offsets<Space>(
+        offsets_, n,
+        KOKKOS_LAMBDA(int i) {
           int count = 0;
           ppe.for_each_coefficient(i, [&](int, Real) { ++count; });
-          offsets(i + 1) = count;
-        });
-    int total = 0;
-    Kokkos::parallel_scan(
-        "dvisph::poisson_matrix::prefix_sum", Kokkos::RangePolicy<Space>(0, n + 1),
-        KOKKOS_LAMBDA(int i, int& partial, bool final) {
-          partial += (i == 0 ? 0 : offsets(i));
-          if (final) offsets(i) = partial;
+          return count;
         },
-        total);
-    if (static_cast<int>(columns_.extent(0)) < total) {
-      // slack, so that a slowly growing pair count does not reallocate every step
-      const int size = total + total / 8;
-      columns_ = Kokkos::View<int*, memory_space>(
-          Kokkos::view_alloc(Kokkos::WithoutInitializing, "dvisph::poisson_matrix::columns"), size);
-      values_ = Kokkos::View<Real*, memory_space>(
-          Kokkos::view_alloc(Kokkos::WithoutInitializing, "dvisph::poisson_matrix::values"), size);
-    }
+        "dvisph::poisson_matrix");
+    reserve_entries(columns_, total, "dvisph::poisson_matrix::columns");
+    reserve_entries(values_, total, "dvisph::poisson_matrix::values");
+    auto offsets = offsets_;
     auto columns = columns_;
     auto values = values_;
     Kokkos::parallel_for(
-        "dvisph::poisson_matrix::fill", range, KOKKOS_LAMBDA(int i) {
+        "dvisph::poisson_matrix::fill", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
           int a = offsets(i);
           ppe.for_each_coefficient(i, [&](int j, Real w) {
             columns(a) = j;

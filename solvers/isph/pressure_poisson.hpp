@@ -5,12 +5,13 @@
 // active wall particles; Dirichlet particles (P = 0) add only to the diagonal.
 //   fluid rows: b = -(rho0/dt) <div v*> - w gamma rho0 (1 - <rho>/rho_ref) / dt^2,
 //               w the particle's invariance weight (1 where its support is full, 0
-//               where it reaches into the air; roles.hpp). Free surface, ghost-fluid style (Gibou et al. 2002): the
-//               part of a fluid particle's support that is empty is air at P = 0 half
-//               a spacing beyond the particles, i.e. twice the missing diagonal
-//               weight, so the surface layer gets the pressure of its depth and the
-//               symmetric gradient holds it up. No fluid particle is Dirichlet and no
-//               role flip changes the matrix abruptly.
+//               where it reaches into the air, and on the surface; roles.hpp).
+//               Free surface, ghost-fluid style (Gibou et al. 2002): the part of a
+//               fluid particle's support that is empty is air at P = 0 half a spacing
+//               beyond the particles, i.e. twice the missing diagonal weight, so the
+//               surface layer gets the pressure of its depth and the symmetric
+//               gradient holds it up. No fluid particle is Dirichlet and no role flip
+//               changes the matrix abruptly.
 //   wall rows:  b = -L(P_h), P_h = rho0 g.x: the wall pressure continues the
 //               fluid's with the hydrostatic gradient (a Neumann condition) and the
 //               matrix stays symmetric.
@@ -34,8 +35,9 @@ struct PressurePoisson {
   // diag(i) and b(i, k) for gamma[k], k < b.extent(1); zero on rows that are not unknowns.
   // invariance(i): the weight of the density-invariance term (density_and_roles).
   template <class VStar, class Rho, class Weight, class Diag, class B>
-  void assemble(const VStar& vstar, const Rho& rho, const Weight& invariance, Real rho0, Real rho_ref, Vec<D> g, Real dt,
-                const Real (&gamma)[max_rhs], const Diag& diag, const B& b, int n) const {
+  void assemble(const VStar& vstar, const Rho& rho, const Weight& invariance, Real rho0,
+                Real rho_ref, Vec<D> g, Real dt, const Real (&gamma)[max_rhs], const Diag& diag,
+                const B& b, int n) const {
     const auto self = *this;
     const int K = static_cast<int>(b.extent(1));
     Real gam[max_rhs];
@@ -63,7 +65,7 @@ struct PressurePoisson {
           for (int k = 0; k < K; ++k) {
             if (ri == Role::wall) b(i, k) = -rho0 * wall_source;
             else b(i, k) = -rho0 / dt * div -
-                           (ri == Role::fluid ? invariance(i) * gam[k] * rho0 * (1 - rho(i) / rho_ref) / (dt * dt) : 0);
+                           invariance(i) * gam[k] * rho0 * (1 - rho(i) / rho_ref) / (dt * dt);
           }
         });
   }
