@@ -252,14 +252,12 @@ bench::Record run(long target_n, const Options& opt, double triad) {
   // solves: two right-hand sides at once, each alone, alone with stored coefficients
   const int solve_repeats = n > 20000 ? 1 : 3;
   ConjugateGradient<Space> cg2, cg1;
-  auto apply_list = [&](const auto& p, const auto& q) { ppe_list.apply(p, q, diag, n); };
-  auto apply_csr = [&](const auto& p, const auto& q) { csr.apply(p, q, diag, n); };
   CgResult two, single[2], stored;
   Kokkos::Profiling::pushRegion("dvisph::bench::ppe::solve_two_rhs");
   const auto t_two = bench::time_it<Space>(
       [&] {
         Kokkos::deep_copy(p2, guess);
-        two = cg2.solve(apply_list, diag, b, p2, n, cg_tolerance, cg_max_iterations);
+        two = cg2.solve(ppe_list, diag, b, p2, n, cg_tolerance, cg_max_iterations);
       },
       solve_repeats);
   Kokkos::Profiling::popRegion();
@@ -269,7 +267,7 @@ bench::Record run(long target_n, const Options& opt, double triad) {
         for (int k = 0; k < 2; ++k) {
           copy_column<Space>(b1, b, k, n);
           copy_column<Space>(p1, guess, k, n);
-          single[k] = cg1.solve(apply_list, diag, b1, p1, n, cg_tolerance, cg_max_iterations);
+          single[k] = cg1.solve(ppe_list, diag, b1, p1, n, cg_tolerance, cg_max_iterations);
         }
       },
       solve_repeats);
@@ -279,7 +277,7 @@ bench::Record run(long target_n, const Options& opt, double triad) {
       [&] {
         copy_column<Space>(b1, b, 0, n);
         copy_column<Space>(p1, guess, 0, n);
-        stored = cg1.solve(apply_csr, diag, b1, p1, n, cg_tolerance, cg_max_iterations);
+        stored = cg1.solve(csr, diag, b1, p1, n, cg_tolerance, cg_max_iterations);
       },
       solve_repeats);
   Kokkos::Profiling::popRegion();
@@ -289,7 +287,7 @@ bench::Record run(long target_n, const Options& opt, double triad) {
       [&] {
         copy_column<Space>(b1, b, 0, n);
         copy_column<Space>(p1, guess, 0, n);
-        single[0] = cg1.solve(apply_list, diag, b1, p1, n, cg_tolerance, cg_max_iterations);
+        single[0] = cg1.solve(ppe_list, diag, b1, p1, n, cg_tolerance, cg_max_iterations);
       },
       solve_repeats);
   Kokkos::Profiling::popRegion();

@@ -54,17 +54,19 @@ class ConjugateGradient {
   }
 
   // Solves A x = b for every column of b (n x K, K <= max_rhs); x holds the initial
-  // guess. `apply(p, q)` computes q = A p; rows whose diag is zero are inactive
-  // (their x, b stay zero). Returns iterations and the relative residuals.
-  template <class Apply>
-  CgResult solve(const Apply& apply, const Diagonal& diag, const Vectors& b, const Vectors& x,
+  // guess. `A.apply(p, q, diag, n)` computes q = A p; rows whose diag is zero are
+  // inactive (their x, b stay zero). Returns iterations and the relative residuals.
+  // (An operator object, not a closure: nvcc's device lambdas may not sit in a
+  // function templated on a function-local type.)
+  template <class Operator>
+  CgResult solve(const Operator& A, const Diagonal& diag, const Vectors& b, const Vectors& x,
                  int n, Real tolerance, int max_iterations) {
     const int K = static_cast<int>(b.extent(1));
     resize(static_cast<int>(b.extent(0)), K);
     auto r = r_, z = z_, p = p_, q = q_;
     const auto range = Kokkos::RangePolicy<Space>(0, n);
 
-    apply(x, q);
+    A.apply(x, q, diag, n);
     Sums<3 * max_rhs> init;  // r.z, b.b, r.r
     Kokkos::parallel_reduce(
         "dvisph::pcg::init", range,
@@ -100,7 +102,7 @@ class ConjugateGradient {
     bool done = all_done();
     int it = 0;
     for (; it < max_iterations && !done; ++it) {
-      apply(p, q);
+      A.apply(p, q, diag, n);
       ColumnSums pq;
       Kokkos::parallel_reduce(
           "dvisph::pcg::pq", range,

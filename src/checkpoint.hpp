@@ -80,12 +80,26 @@ void for_each_element(const HostView& h, F&& f) {
         else f(h(i, j, l), k);
       }
 }
+
+// A LayoutRight copy of `view` on its own space: the state arrays are subviews
+// (rows in use), possibly strided, and Kokkos copies between spaces only
+// contiguous views of one layout.
+template <class View>
+auto dense_copy(const View& view) {
+  using Dense = Kokkos::View<typename View::traits::non_const_data_type, Kokkos::LayoutRight,
+                             typename View::memory_space>;
+  typename Dense::array_layout layout;
+  for (int r = 0; r < static_cast<int>(View::rank); ++r) layout.dimension[r] = view.extent(r);
+  Dense dense(Kokkos::view_alloc(Kokkos::WithoutInitializing, view.label()), layout);
+  Kokkos::deep_copy(dense, view);
+  return dense;
+}
 }  // namespace detail
 
 template <class View>
 void Checkpoint::put(const std::string& name, const View& view) {
   using T = std::remove_const_t<typename View::value_type>;
-  const auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), view);
+  const auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), detail::dense_copy(view));
   auto& a = table<T>(*this)[name];
   a.extents.clear();
   for (int r = 0; r < static_cast<int>(View::rank); ++r) a.extents.push_back(view.extent(r));
@@ -104,9 +118,11 @@ void Checkpoint::get(const std::string& name, const View& view) const {
     if (r >= static_cast<int>(it->second.extents.size()) ||
         it->second.extents[r] != view.extent(r))
       throw std::runtime_error("checkpoint: array '" + name + "' has other extents than expected");
-  auto h = Kokkos::create_mirror_view(view);
+  const auto dense = detail::dense_copy(view);
+  auto h = Kokkos::create_mirror_view(dense);
   detail::for_each_element(h, [&](T& v, std::size_t k) { v = static_cast<T>(it->second.values[k]); });
-  Kokkos::deep_copy(view, h);
+  Kokkos::deep_copy(dense, h);
+  Kokkos::deep_copy(view, dense);
 }
 
 }  // namespace dvisph

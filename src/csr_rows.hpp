@@ -10,7 +10,8 @@ namespace dvisph {
 
 // offsets(i) .. offsets(i + 1) - 1 index row i's count(i) entries, i < n (offsets grows to
 // n + 1 when smaller). Kernels are named `name`::count and `name`::prefix_sum. Returns
-// the number of entries.
+// the number of entries. `count` is a functor (see NeighborList::build for why not a
+// KOKKOS_LAMBDA).
 template <class Space, class Count>
 int csr_offsets(Kokkos::View<int*, typename Space::memory_space>& offsets, int n,
                 const Count& count, const std::string& name) {

@@ -9,34 +9,52 @@ namespace dvisph {
 
 template <int D, class Space>
 class NeighborList {
+ public:
   struct Everyone {
     KOKKOS_INLINE_FUNCTION bool operator()(int) const { return true; }
   };
 
- public:
   using memory_space = typename Space::memory_space;
+
+  // The build's kernels are functors, not KOKKOS_LAMBDAs: with nvcc (CUDA 13), the host
+  // side of a device lambda here crashed (a null copy function in nvcc's lambda
+  // wrapper) when two test files instantiated build<..., Everyone>.
+
+  // Row i's length: the targets of `sweep` around query point i, none if not wanted.
+  template <class XView, class Wanted>
+  struct TargetCount {
+    CellSweep<D, Space> sweep;
+    XView xq;
+    Wanted wanted;
+    KOKKOS_INLINE_FUNCTION int operator()(int i) const {
+      int count = 0;
+      if (wanted(i)) sweep.for_each(i, row<D>(xq, i), [&](int, const Vec<D>&, Real) { ++count; });
+      return count;
+    }
+  };
+
+  // Row i's entries: the targets of `sweep` around query point i, in sweep order.
+  template <class XView>
+  struct TargetFill {
+    CellSweep<D, Space> sweep;
+    XView xq;
+    Kokkos::View<int*, memory_space> offsets, neighbors;
+    KOKKOS_INLINE_FUNCTION void operator()(int i) const {
+      int a = offsets(i);
+      if (a == offsets(i + 1)) return;
+      sweep.for_each(i, row<D>(xq, i), [&](int j, const Vec<D>&, Real) { neighbors(a++) = j; });
+    }
+  };
 
   // Lists, for each of the n query points xq(i) with wanted(i), the targets of `sweep`
   // (an empty list for the others).
   template <class XView, class Wanted>
   void build(const CellSweep<D, Space>& sweep, const XView& xq, int n, const Wanted& wanted) {
-    const int total = csr_offsets<Space>(
-        offsets_, n,
-        KOKKOS_LAMBDA(int i) {
-          int count = 0;
-          if (wanted(i)) sweep.for_each(i, row<D>(xq, i), [&](int, const Vec<D>&, Real) { ++count; });
-          return count;
-        },
-        "dvisph::neighbor_list");
+    const int total = csr_offsets<Space>(offsets_, n, TargetCount<XView, Wanted>{sweep, xq, wanted},
+                                         "dvisph::neighbor_list");
     reserve_entries(neighbors_, total, "dvisph::neighbor_list::neighbors");
-    auto offsets = offsets_;
-    auto neighbors = neighbors_;
-    Kokkos::parallel_for(
-        "dvisph::neighbor_list::fill", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
-          int a = offsets(i);
-          if (a == offsets(i + 1)) return;
-          sweep.for_each(i, row<D>(xq, i), [&](int j, const Vec<D>&, Real) { neighbors(a++) = j; });
-        });
+    Kokkos::parallel_for("dvisph::neighbor_list::fill", Kokkos::RangePolicy<Space>(0, n),
+                         TargetFill<XView>{sweep, xq, offsets_, neighbors_});
     n_ = n;
     pairs_ = total;
     x_ = sweep.x;

@@ -20,6 +20,8 @@ namespace kmath = ::Kokkos::Experimental;
 KOKKOS_INLINE_FUNCTION Real sqrt(Real x) { return kmath::sqrt(x); }
 KOKKOS_INLINE_FUNCTION Real floor(Real x) { return kmath::floor(x); }
 KOKKOS_INLINE_FUNCTION Real log(Real x) { return kmath::log(x); }
+KOKKOS_INLINE_FUNCTION Real sin(Real x) { return kmath::sin(x); }
+KOKKOS_INLINE_FUNCTION Real cos(Real x) { return kmath::cos(x); }
 KOKKOS_INLINE_FUNCTION bool isfinite(Real x) { return kmath::isfinite(x); }
 KOKKOS_INLINE_FUNCTION Real abs(Real x) { return x < 0 ? -x : x; }
 KOKKOS_INLINE_FUNCTION Real min(Real a, Real b) { return a < b ? a : b; }

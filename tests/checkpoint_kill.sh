@@ -7,7 +7,12 @@ set -u
 dvisph=$1 scene=$2
 out=$(mktemp -d)/run
 set_args=(--set geometry.spacing=0.005 --set output.checkpoint_every=0.002 --set end_time=5)
-python=/usr/bin/python3
+# Debian's python3-h5py (scripts/setup.sh) or, elsewhere, the first python3 with h5py
+python=
+for p in /usr/bin/python3 "$(command -v python3)"; do
+  [ -x "$p" ] && "$p" -c "import h5py" 2>/dev/null && { python=$p; break; }
+done
+[ -n "$python" ] || { echo "FAIL: no python3 with h5py (scripts/setup.sh installs python3-h5py)"; exit 1; }
 checkpoint_time() {  # prints t of the checkpoint, fails if it is not whole
   "$python" - "$1" <<'PY'
 import sys, h5py, numpy as np

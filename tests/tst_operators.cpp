@@ -80,8 +80,8 @@ TEST_CASE("the Morris Laplacian is symmetric on disordered particles", "[operato
   Kokkos::deep_copy(rho, 1000.0);
   Kokkos::parallel_for(
       Kokkos::RangePolicy<TestSpace>(0, n), KOKKOS_LAMBDA(int i) {
-        u(i) = Kokkos::Experimental::sin(37.0 * x(i, 0)) + x(i, 1);
-        w(i) = Kokkos::Experimental::cos(23.0 * x(i, 1)) * x(i, 0);
+        u(i) = math::sin(37.0 * x(i, 0)) + x(i, 1);
+        w(i) = math::cos(23.0 * x(i, 1)) * x(i, 0);
       });
   CellList<D, TestSpace> cells(Grid<D>(Vec<D>{{-dx, -dx}}, Vec<D>{{0.31, 0.21}}, kernel.radius()));
   cells.build(x, n);

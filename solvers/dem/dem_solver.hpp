@@ -9,6 +9,7 @@
 #include "solvers/dem/linear_spring_dashpot.hpp"
 #include "solvers/dem/plane_wall.hpp"
 #include "solvers/dem/spheres.hpp"
+#include "src/extrema.hpp"
 #include "src/neighbor_sweep.hpp"
 #include "src/reorder.hpp"
 
@@ -70,15 +71,8 @@ class DemSolver {
         status_("dvisph::dem::status") {
     const int n = spheres_.n;
     if (n < 1) throw std::invalid_argument("DemSolver: no spheres");
-    Real r_max = 0, m_min = 0;
-    const auto r = spheres_.radius;
-    const auto m = spheres_.mass;
-    Kokkos::parallel_reduce(
-        "dvisph::dem::largest_radius", Kokkos::RangePolicy<Space>(0, n),
-        KOKKOS_LAMBDA(int i, Real& v) { v = math::max(v, r(i)); }, Kokkos::Max<Real>(r_max));
-    Kokkos::parallel_reduce(
-        "dvisph::dem::smallest_mass", Kokkos::RangePolicy<Space>(0, n),
-        KOKKOS_LAMBDA(int i, Real& v) { v = math::min(v, m(i)); }, Kokkos::Min<Real>(m_min));
+    const Real r_max = max_of<Space>(spheres_.radius, n, "dvisph::dem::largest_radius");
+    const Real m_min = min_of<Space>(spheres_.mass, n, "dvisph::dem::smallest_mass");
     if (!(r_max > 0 && m_min > 0))
       throw std::invalid_argument("DemSolver: radius and mass must be > 0");
     skin_ = options_.skin * 2 * r_max;
@@ -167,7 +161,8 @@ class DemSolver {
   // Kinetic, gravitational and spring energy now (for diagnostics; f_ext's work is not
   // tracked).
   Energy energy() const {
-    const auto x = spheres_.x, v = spheres_.v, om = spheres_.omega;
+    const auto x = spheres_.x, v = spheres_.v;
+    const auto om = spheres_.omega;  // rotational: [rdim] columns
     const auto rad = spheres_.radius, m = spheres_.mass, I = spheres_.inertia;
     const Vec<D> g = gravity_;
     const Law law = law_;
@@ -211,10 +206,13 @@ class DemSolver {
   // v += dt/2 a, x += dt v; and the predicted velocity over the next drift, v + dt a,
   // that the contact law needs to place each contact's start and end in the step.
   void kick_drift(Real dt) {
-    const auto x = spheres_.x, v = spheres_.v, om = spheres_.omega;
-    const auto f = spheres_.force, fext = spheres_.f_ext, t = spheres_.torque;
+    const auto x = spheres_.x, v = spheres_.v;
+    const auto om = spheres_.omega;  // rotational: [rdim] columns
+    const auto f = spheres_.force, fext = spheres_.f_ext;
+    const auto t = spheres_.torque;  // rotational: [rdim] columns
     const auto m = spheres_.mass, I = spheres_.inertia;
-    const auto va = v_ahead_, wa = omega_ahead_;
+    const auto va = v_ahead_;
+    const auto wa = omega_ahead_;  // rotational: [rdim] columns
     const auto status = status_;
     const Vec<D> g = gravity_, lo = box_lo_, hi = box_hi_;
     const bool rotation = options_.rotation;
@@ -242,8 +240,10 @@ class DemSolver {
   }
 
   void kick(Real dt) {
-    const auto v = spheres_.v, om = spheres_.omega;
-    const auto f = spheres_.force, fext = spheres_.f_ext, t = spheres_.torque;
+    const auto v = spheres_.v;
+    const auto om = spheres_.omega;  // rotational: [rdim] columns
+    const auto f = spheres_.force, fext = spheres_.f_ext;
+    const auto t = spheres_.torque;  // rotational: [rdim] columns
     const auto m = spheres_.mass, I = spheres_.inertia;
     const Vec<D> g = gravity_;
     const bool rotation = options_.rotation;
@@ -259,11 +259,14 @@ class DemSolver {
   // velocities in v and omega and the predicted ones in v_ahead_ and omega_ahead_;
   // writes the history of the contacts alive now into the next table.
   void contact_forces(Real dt) {
-    const auto x = spheres_.x, v = spheres_.v, om = spheres_.omega;
-    const auto va = v_ahead_, wa = omega_ahead_;
+    const auto x = spheres_.x, v = spheres_.v;
+    const auto om = spheres_.omega;  // rotational: [rdim] columns
+    const auto va = v_ahead_;
+    const auto wa = omega_ahead_;  // rotational: [rdim] columns
     const auto rad = spheres_.radius, m = spheres_.mass;
     const auto id = spheres_.id;
-    const auto f = spheres_.force, t = spheres_.torque;
+    const auto f = spheres_.force;
+    const auto t = spheres_.torque;  // rotational: [rdim] columns
     const auto walls = walls_d_;
     const int nw = static_cast<int>(walls_.size());
     const Law law = law_;

@@ -48,14 +48,14 @@ struct Spheres {
           const std::string& name = "spheres")
       : Spheres(static_cast<int>(centres.size()), name) {
     auto hx = Kokkos::create_mirror_view(x);
-    for (int i = 0; i < n; ++i)
+    auto hid = Kokkos::create_mirror_view(id);
+    for (int i = 0; i < n; ++i) {
       for (int k = 0; k < D; ++k) hx(i, k) = centres[i][k];
+      hid(i) = i;
+    }
     Kokkos::deep_copy(x, hx);
+    Kokkos::deep_copy(id, hid);
     Kokkos::deep_copy(radius, r);
-    auto ids = id;
-    Kokkos::parallel_for(
-        "dvisph::dem::spheres::ids", Kokkos::RangePolicy<Space>(0, n),
-        KOKKOS_LAMBDA(int i) { ids(i) = i; });
     set_mass_properties(density);
   }
 

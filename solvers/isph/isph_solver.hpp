@@ -192,25 +192,15 @@ class IsphSolver {
     const PressurePoisson<D, Sweep, Kernel, decltype(p_.x), decltype(role_)> ppe{
         list_.sweep(), kernel_, p_.x, role_, volume_, full_diagonal_};
     ppe.assemble(vstar_, rho_, invariance_, rho0_, rho_ref_, g_, info_.dt, gamma_, diag_, rhs_, n_);
-    // warm start: last step's pressure, zero on Dirichlet and excluded rows
-    auto p = pressure_;
-    auto role = role_;
-    const int K = nrhs_;
-    Kokkos::parallel_for(
-        "dvisph::isph::warm_start", Kokkos::RangePolicy<Space>(0, n_), KOKKOS_LAMBDA(int i) {
-          if (!unknown(role(i)))
-            for (int k = 0; k < K; ++k) p(i, k) = 0;
-        });
-    const auto solve = [&](const auto& apply) {
-      return cg_.solve(apply, diag_, rhs_, pressure_, n_, scene_.cg_tolerance,
-                       scene_.cg_max_iterations);
-    };
+    ppe.warm_start(pressure_, n_);
     CgResult result;
     if (store_matrix_) {
       matrix_.build(ppe, n_);
-      result = solve([&](const auto& x, const auto& y) { matrix_.apply(x, y, diag_, n_); });
+      result = cg_.solve(matrix_, diag_, rhs_, pressure_, n_, scene_.cg_tolerance,
+                         scene_.cg_max_iterations);
     } else {
-      result = solve([&](const auto& x, const auto& y) { ppe.apply(x, y, diag_, n_); });
+      result = cg_.solve(ppe, diag_, rhs_, pressure_, n_, scene_.cg_tolerance,
+                         scene_.cg_max_iterations);
     }
     info_.cg_iterations = result.iterations;
     info_.cg_residual = result.residual[0];
@@ -281,16 +271,7 @@ class IsphSolver {
     if (gate_removed_ || info_.t < scene_.gate->remove_at) return;
     // keep every particle that is not the gate, in order
     Kokkos::View<int*, memory_space> keep("dvisph::isph::gate_keep", n_);
-    auto kind = p_.kind;
-    int kept = 0;
-    Kokkos::parallel_scan(
-        "dvisph::isph::remove_gate", Kokkos::RangePolicy<Space>(0, n_),
-        KOKKOS_LAMBDA(int i, int& offset, bool final) {
-          if (kind(i) == Kind::gate) return;
-          if (final) keep(offset) = i;
-          ++offset;
-        },
-        kept);
+    const int kept = rows_not_of_kind<Space>(p_.kind, Kind::gate, n_, keep);
     permute(keep, kept);
     gate_removed_ = true;
     count_kinds();

@@ -15,17 +15,22 @@ class PoissonMatrix {
  public:
   using memory_space = typename Space::memory_space;
 
+  // Row i's length: the off-diagonal coefficients of `ppe`'s row i.
+  template <class Ppe>
+  struct CoefficientCount {
+    Ppe ppe;
+    KOKKOS_INLINE_FUNCTION int operator()(int i) const {
+      int count = 0;
+      ppe.for_each_coefficient(i, [&](int, Real) { ++count; });
+      return count;
+    }
+  };
+
   // The coefficients of `ppe`'s operator over its first n particles (diag from assemble).
   template <class Ppe>
   void build(const Ppe& ppe, int n) {
-    const int total = csr_offsets<Space>(
-        offsets_, n,
-        KOKKOS_LAMBDA(int i) {
-          int count = 0;
-          ppe.for_each_coefficient(i, [&](int, Real) { ++count; });
-          return count;
-        },
-        "dvisph::poisson_matrix");
+    const int total =
+        csr_offsets<Space>(offsets_, n, CoefficientCount<Ppe>{ppe}, "dvisph::poisson_matrix");
     reserve_entries(columns_, total, "dvisph::poisson_matrix::columns");
     reserve_entries(values_, total, "dvisph::poisson_matrix::values");
     auto offsets = offsets_;

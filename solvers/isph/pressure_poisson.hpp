@@ -80,6 +80,18 @@ struct PressurePoisson {
     });
   }
 
+  // Warm start: p keeps the last step's values on the unknowns, zero elsewhere.
+  template <class P>
+  void warm_start(const P& p, int n) const {
+    const auto r = role;
+    const int K = static_cast<int>(p.extent(1));
+    Kokkos::parallel_for(
+        "dvisph::pressure_poisson::warm_start", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
+          if (!unknown(r(i)))
+            for (int k = 0; k < K; ++k) p(i, k) = 0;
+        });
+  }
+
   // q = A p for all columns (diag is zero on rows that are not unknowns).
   template <class P, class Diag>
   void apply(const P& p, const P& q, const Diag& diag, int n) const {
