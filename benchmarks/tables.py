@@ -19,6 +19,8 @@ RESULTS = os.path.join(ROOT, "benchmarks", "results")
 MATVEC_3D_NS = 25          # 3D PPE mat-vec, ns per particle, 2-core CPU
 SWEEP_SPEEDUP = 1.8        # OpenMP 2 threads over Serial, neighbour sweeps
 DAM_BREAK_3D_SECONDS = 180  # 3D dam break, a = 5 cm, dx = 3 mm, to T = 3
+GPU_MATVEC_3D_NS = 1.5      # 3D PPE mat-vec on an H100, ns per particle
+GPU_BYTES_PER_PARTICLE = 400
 
 
 def load(prefix, labels):
@@ -43,9 +45,16 @@ def fmt(v, spec):
     return "—" if v is None else format(v, spec)
 
 
+def ns(v):
+    """A time in ns: whole numbers from 10 up, two significant digits below (GPU)."""
+    return f"{v:.0f}" if v >= 10 else f"{v:.2g}"
+
+
 def suite_tables(labels):
     for label, data in load("suite", labels).items():
-        print(f"\n#### Scene suite, `{label}` ({data['machine']['cpu']}, {data['machine']['cores']} cores)\n")
+        m = data["machine"]
+        where = m["gpu"] if "gpu" in m else f"{m['cpu']}, {m['cores']} cores"
+        print(f"\n#### Scene suite, `{label}` ({where})\n")
         rows = []
         for r in data["runs"]:
             if r["exit_code"] != 0:
@@ -81,10 +90,10 @@ def ppe_tables(labels):
             per_unknown = r["n"] / r["unknowns"]
             rows.append([r["backend"], r["threads"], f"{r['dim']}D", f"{r['n']:,}", f"{r['unknowns']:,}",
                          f"{r['nonzeros_per_unknown']:.0f}",
-                         f"{r['matvec_cell_ns_per_particle']:.0f}", f"{r['matvec_list_ns_per_particle']:.0f}",
+                         ns(r['matvec_cell_ns_per_particle']), ns(r['matvec_list_ns_per_particle']),
                          f"{r['matvec_csr_ns_per_particle']:.1f} ({r['matvec_csr_ns_per_particle'] * per_unknown:.1f})",
-                         f"{r['matvec2_list_ns_per_particle']:.0f}", f"{r['matvec2_csr_ns_per_particle']:.1f}",
-                         f"{r['csr_build_ns_per_particle']:.0f}",
+                         ns(r['matvec2_list_ns_per_particle']), f"{r['matvec2_csr_ns_per_particle']:.1f}",
+                         ns(r['csr_build_ns_per_particle']),
                          f"{r['csr_bytes_per_second'] / 1e9:.1f} / {r['triad_bytes_per_second'] / 1e9:.1f}"])
             if "solve_single_s" in r:
                 solves.append([r["backend"], r["threads"], f"{r['dim']}D", f"{r['n']:,}",
@@ -109,8 +118,8 @@ def neighbor_table(labels):
     for label, recs in load("neighbor_search", labels).items():
         for r in recs:
             rows.append([r["backend"], r["threads"], f"{r['dim']}D", f"{r['n']:,}", f"{r['pairs_per_particle']:.0f}",
-                         f"{r['bin_ns_per_particle']:.0f}", f"{r['sweep_ns_per_particle']:.0f}",
-                         f"{r['list_build_ns_per_particle']:.0f}", f"{r['list_sweep_ns_per_particle']:.0f}"])
+                         ns(r['bin_ns_per_particle']), ns(r['sweep_ns_per_particle']),
+                         ns(r['list_build_ns_per_particle']), ns(r['list_sweep_ns_per_particle'])])
     print("\n#### Binning and neighbour sweeps, ns per particle (median of 5)\n")
     print(table(["backend", "threads", "dim", "particles", "pairs / particle", "bin", "cell sweep",
                  "list build", "list sweep"], rows))
@@ -168,22 +177,35 @@ def targets(labels):
             rows.append([f"3D PPE mat-vec, {name}, {n:,} particles, 2 threads", f"<= {MATVEC_3D_NS} ns/particle",
                          f"{v:.1f} ({v * per_unknown:.1f} per unknown)",
                          "met" if v <= MATVEC_3D_NS else f"{v / MATVEC_3D_NS:.1f}x over"])
-    ns = records("neighbor_search", labels)
+    for r in sorted((r for r in ppe if r["backend"] == "Cuda"), key=lambda r: r["n"]):
+        for key, name in (("matvec_list_ns_per_particle", "list (matrix_free)"),
+                          ("matvec_csr_ns_per_particle", "stored coefficients (solver default)")):
+            v = r[key]
+            rows.append([f"3D PPE mat-vec, {name}, {r['n']:,} particles, CUDA", f"<= {GPU_MATVEC_3D_NS} ns/particle",
+                         f"{v:.2f}", "met" if v <= GPU_MATVEC_3D_NS else f"{v / GPU_MATVEC_3D_NS:.1f}x over"])
+    sweeps = records("neighbor_search", labels)
     for key, name in (("sweep_ns_per_particle", "cell sweep"), ("list_sweep_ns_per_particle", "list sweep")):
         for dim in (2, 3):
-            serial = {r["n"]: r[key] for r in ns if r["backend"] == "Serial" and r["dim"] == dim}
-            omp2 = {r["n"]: r[key] for r in ns if r["backend"] == "OpenMP" and r["threads"] == 2 and r["dim"] == dim}
+            serial = {r["n"]: r[key] for r in sweeps if r["backend"] == "Serial" and r["dim"] == dim}
+            omp2 = {r["n"]: r[key] for r in sweeps if r["backend"] == "OpenMP" and r["threads"] == 2 and r["dim"] == dim}
             for n in sorted(set(serial) & set(omp2)):
                 s = serial[n] / omp2[n]
                 rows.append([f"OpenMP 2 threads / Serial, {name}, {dim}D, {n:,}", f">= {SWEEP_SPEEDUP}",
                              f"{s:.2f}", "met" if s >= SWEEP_SPEEDUP else f"{SWEEP_SPEEDUP - s:.2f} short"])
+    memory_rows = set()
     for label, data in load("suite", labels).items():
         for r in data["runs"]:
             if r["case"] == "dam_break_3d" and abs(r["spacing"] - 0.003) < 1e-9 and r["exit_code"] == 0:
                 w = r["wall_seconds"]
                 rows.append([f"3D dam break dx = 3 mm to T = 3, {label}, CG tol {r['cg_tolerance']:.0e}",
-                             f"<= {DAM_BREAK_3D_SECONDS} s", f"{w:.0f} s ({r['steps']} steps)",
+                             f"<= {DAM_BREAK_3D_SECONDS} s", f"{w:.3g} s ({r['steps']} steps)",
                              "met" if w <= DAM_BREAK_3D_SECONDS else f"{w / DAM_BREAK_3D_SECONDS:.1f}x over"])
+                if r.get("backend") == "Cuda" and (label, r["particles"]) not in memory_rows:
+                    memory_rows.add((label, r["particles"]))
+                    b = r["memory_bytes_per_particle"]
+                    rows.append([f"memory, 3D dam break dx = 3 mm ({r['particles']:,} particles), {label}",
+                                 f"<= {GPU_BYTES_PER_PARTICLE} B/particle", f"{b} B/particle",
+                                 "met" if b <= GPU_BYTES_PER_PARTICLE else f"{b / GPU_BYTES_PER_PARTICLE:.1f}x over"])
     print(table(["target", "goal", "measured", "gap"], rows))
 
 
