@@ -81,25 +81,25 @@ void for_each_element(const HostView& h, F&& f) {
       }
 }
 
-// A LayoutRight copy of `view` on its own space: the state arrays are subviews
-// (rows in use), possibly strided, and Kokkos copies between spaces only
-// contiguous views of one layout.
+// A LayoutRight array shaped like `view`, on its space: the state arrays are subviews
+// (rows in use), possibly strided, and Kokkos copies between spaces only contiguous
+// views of one layout, so checkpoints go through this.
 template <class View>
-auto dense_copy(const View& view) {
+auto dense_like(const View& view) {
   using Dense = Kokkos::View<typename View::traits::non_const_data_type, Kokkos::LayoutRight,
                              typename View::memory_space>;
   typename Dense::array_layout layout;
   for (int r = 0; r < static_cast<int>(View::rank); ++r) layout.dimension[r] = view.extent(r);
-  Dense dense(Kokkos::view_alloc(Kokkos::WithoutInitializing, view.label()), layout);
-  Kokkos::deep_copy(dense, view);
-  return dense;
+  return Dense(Kokkos::view_alloc(Kokkos::WithoutInitializing, view.label()), layout);
 }
 }  // namespace detail
 
 template <class View>
 void Checkpoint::put(const std::string& name, const View& view) {
   using T = std::remove_const_t<typename View::value_type>;
-  const auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), detail::dense_copy(view));
+  const auto dense = detail::dense_like(view);
+  Kokkos::deep_copy(dense, view);
+  const auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), dense);
   auto& a = table<T>(*this)[name];
   a.extents.clear();
   for (int r = 0; r < static_cast<int>(View::rank); ++r) a.extents.push_back(view.extent(r));
@@ -118,7 +118,7 @@ void Checkpoint::get(const std::string& name, const View& view) const {
     if (r >= static_cast<int>(it->second.extents.size()) ||
         it->second.extents[r] != view.extent(r))
       throw std::runtime_error("checkpoint: array '" + name + "' has other extents than expected");
-  const auto dense = detail::dense_copy(view);
+  const auto dense = detail::dense_like(view);
   auto h = Kokkos::create_mirror_view(dense);
   detail::for_each_element(h, [&](T& v, std::size_t k) { v = static_cast<T>(it->second.values[k]); });
   Kokkos::deep_copy(dense, h);

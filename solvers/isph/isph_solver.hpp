@@ -147,6 +147,9 @@ class IsphSolver {
   }
 
  private:
+  // No KOKKOS_LAMBDA in the private members: nvcc accepts device lambdas only in public
+  // member functions; the kernels live in the stage functions and functors they call.
+
   // The per-particle arrays of the state, rows in use only (views are handles: the
   // restore writes through them).
   template <class F>
