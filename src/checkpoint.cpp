@@ -1,5 +1,7 @@
 #include "src/checkpoint.hpp"
 
+#include "src/hdf5_setup.hpp"
+
 #include <fmt/format.h>
 #include <hdf5.h>
 
@@ -103,7 +105,7 @@ std::vector<std::size_t> Checkpoint::extents(const std::string& name) const {
 
 void Checkpoint::write(const std::string& path) const {
   const std::string tmp = path + ".tmp";
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors are reported by us
+  prepare_hdf5();
   try {
     Handle file{H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose};
     if (file.id < 0) throw failure("cannot create " + tmp, path);
@@ -129,7 +131,7 @@ void Checkpoint::write(const std::string& path) const {
 }
 
 Checkpoint Checkpoint::read(const std::string& path) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  prepare_hdf5();
   if (!std::filesystem::exists(path)) throw failure("no such file", path);
   Handle file{H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose};
   if (file.id < 0) throw failure("not an HDF5 file", path);

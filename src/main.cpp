@@ -10,7 +10,6 @@
 #include <CLI/CLI.hpp>
 #include <Kokkos_Core.hpp>
 #include <fmt/core.h>
-#include <hdf5.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -39,9 +38,6 @@ int dispatch(const dvisph::Scene& s, const dvisph::RunOptions& opt) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // HDF5 1.10 crashes in its exit handler once a file has failed to close (disk full);
-  // the writers close their files themselves, so the handler has nothing to do
-  H5dont_atexit();
   CLI::App app{"dvisph: selective dual-velocity ISPH for solid-liquid flows"};
   app.require_subcommand(1);
   std::string scene_path, out_dir;

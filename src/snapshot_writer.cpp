@@ -1,5 +1,7 @@
 #include "src/snapshot_writer.hpp"
 
+#include "src/hdf5_setup.hpp"
+
 #include <fmt/format.h>
 #include <hdf5.h>
 
@@ -39,7 +41,7 @@ void SnapshotWriter::write(double t, int dim, const std::vector<double>& x,
   const std::string name = fmt::format("snapshot_{:05d}.h5", count());
   const std::string path = dir_ + "/" + name;
   const std::string tmp = path + ".tmp";
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors are reported by us
+  prepare_hdf5();
   const hid_t file = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   if (file < 0) throw std::runtime_error(fmt::format("cannot create {}", tmp));
   try {
