@@ -44,6 +44,27 @@ struct Grid {
   KOKKOS_INLINE_FUNCTION int clamp(int c, int k) const {
     return c < 0 ? 0 : (c >= ncell[k] ? ncell[k] - 1 : c);
   }
+  // f(first, last) for each row of cells (flat indices first..last, consecutive along
+  // axis 0) in the block within `reach` cells of the cell coordinates c (unclamped),
+  // clipped to the grid; nothing when the block misses the grid. The one walk over a
+  // neighbourhood of cells, for sweeps and neighbourhood tests.
+  template <class F>
+  KOKKOS_INLINE_FUNCTION void for_each_row(const int (&c)[D], int reach, F&& f) const {
+    int lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    for (int k = 0; k < D; ++k) {
+      if (c[k] + reach < 0 || c[k] - reach >= ncell[k]) return;
+      lo[k] = clamp(c[k] - reach, k);
+      hi[k] = clamp(c[k] + reach, k);
+    }
+    const int nx = ncell[0];
+    const int ny = D > 1 ? ncell[1] : 1;
+    for (int cz = lo[2]; cz <= hi[2]; ++cz)
+      for (int cy = lo[1]; cy <= hi[1]; ++cy) {
+        const int row = (cz * ny + cy) * nx;
+        f(row + lo[0], row + hi[0]);
+      }
+  }
+
   // Flat index of the cell holding x; positions outside the box go to the nearest cell.
   template <class X>
   KOKKOS_INLINE_FUNCTION int cell_of(const X& x) const {

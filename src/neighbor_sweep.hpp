@@ -30,31 +30,22 @@ struct CellSweep {
 
   template <class F>
   KOKKOS_INLINE_FUNCTION void for_each(int /*i*/, const Vec<D>& xi, F&& f) const {
-    int lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
-    for (int k = 0; k < D; ++k) {
-      const int c = grid.coord(xi[k], k);
-      lo[k] = grid.clamp(c - reach, k);
-      hi[k] = grid.clamp(c + reach, k);
-      if (c + reach < 0 || c - reach >= grid.ncell[k]) return;  // far outside the grid
-    }
-    const int nx = grid.ncell[0];
-    const int ny = D > 1 ? grid.ncell[1] : 1;
-    for (int cz = lo[2]; cz <= hi[2]; ++cz)
-      for (int cy = lo[1]; cy <= hi[1]; ++cy) {
-        // cells lo[0]..hi[0] of a row are contiguous in the permutation
-        const int row = (cz * ny + cy) * nx;
-        const int end = offsets(row + hi[0] + 1);
-        for (int a = offsets(row + lo[0]); a < end; ++a) {
-          const int j = particles(a);
-          Vec<D> xij;
-          Real r2 = 0;
-          for (int k = 0; k < D; ++k) {
-            xij[k] = xi[k] - x(j, k);
-            r2 += xij[k] * xij[k];
-          }
-          if (r2 < radius2) f(j, xij, math::sqrt(r2));
+    int c[D];
+    for (int k = 0; k < D; ++k) c[k] = grid.coord(xi[k], k);
+    grid.for_each_row(c, reach, [&](int first, int last) {
+      // the cells of a row are contiguous in the permutation
+      const int end = offsets(last + 1);
+      for (int a = offsets(first); a < end; ++a) {
+        const int j = particles(a);
+        Vec<D> xij;
+        Real r2 = 0;
+        for (int k = 0; k < D; ++k) {
+          xij[k] = xi[k] - x(j, k);
+          r2 += xij[k] * xij[k];
         }
+        if (r2 < radius2) f(j, xij, math::sqrt(r2));
       }
+    });
   }
 };
 

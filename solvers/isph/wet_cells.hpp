@@ -23,19 +23,13 @@ class WetCells {
     KindV kind;
     KOKKOS_INLINE_FUNCTION bool operator()(int i) const {
       if (kind(i) == Kind::fluid) return true;
-      int lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
-      for (int k = 0; k < D; ++k) {
-        const int c = grid.clamp(grid.coord(x(i, k), k), k);
-        lo[k] = grid.clamp(c - 1, k);
-        hi[k] = grid.clamp(c + 1, k);
-      }
-      const int nx = grid.ncell[0];
-      const int ny = D > 1 ? grid.ncell[1] : 1;
-      for (int cz = lo[2]; cz <= hi[2]; ++cz)
-        for (int cy = lo[1]; cy <= hi[1]; ++cy)
-          for (int cx = lo[0]; cx <= hi[0]; ++cx)
-            if (wet((cz * ny + cy) * nx + cx)) return true;
-      return false;
+      int c[D];
+      for (int k = 0; k < D; ++k) c[k] = grid.clamp(grid.coord(x(i, k), k), k);
+      bool near = false;
+      grid.for_each_row(c, 1, [&](int first, int last) {
+        for (int cell = first; cell <= last && !near; ++cell) near = wet(cell) != 0;
+      });
+      return near;
     }
   };
 
