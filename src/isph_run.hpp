@@ -43,8 +43,8 @@ class IsphRun {
     if (info.step > 0)
       density_error_p95_ = std::max(
           density_error_p95_,
-          density_error_p95<Space>(solver_.density(), solver_.pressure(), solver_.invariance(),
-                                   solver_.reference_density(), solver_.size()));
+          p95_histogram_(solver_.density(), solver_.pressure(), solver_.invariance(),
+                         solver_.reference_density(), solver_.size()));
     if (dam_break_) {
       front_.T.push_back(info.t * std::sqrt(2 * g_ / s_.column_width));
       front_.Z.push_back(front / s_.column_width);
@@ -160,6 +160,7 @@ class IsphRun {
   FrontData front_;
   double max_density_error_ = 0;
   double density_error_p95_ = 0;  // largest over the steps of the p95 over particles
+  DensityErrorP95<Space> p95_histogram_;
   double pair_visits_ = 0;        // neighbour pairs swept by this process's steps
   long cg_total_ = 0;
   int cg_max_ = 0;
