@@ -37,17 +37,25 @@ def martin_moyce():
     return d[:, 0], d[:, 1]
 
 
-def plot_front(runs, png):
+def last_snapshot(run):
+    """Positions, pressure, fluid mask and time of a run's last snapshot."""
+    snaps = sorted(glob.glob(os.path.join(run, "snapshot_*.h5")))
+    with h5py.File(snaps[-1]) as f:
+        return f["x"][:], f["pressure"][:], f["kind"][:] == 0, f.attrs["time"][0]
+
+
+def plot_front(runs, png, labels=None):
     fig, ax = plt.subplots(figsize=(6, 4.5))
     T, Z = martin_moyce()
     ax.plot(T, Z, "ko", label="Martin & Moyce (1952)")
-    for run in runs:
+    for n, run in enumerate(runs):
         s, sc = series(run), scene_of(run)
         a = sc["metrics"]["column_width"]
         g = abs(sc.get("material", {}).get("gravity", [0, -9.81])[-1])
         summary = json.load(open(os.path.join(run, "summary.json")))
         rms = summary["metrics"].get("front_rms_deviation_T1_3", float("nan"))
-        label = f"{sc.get('name', run)}: a/dx = {a / sc['geometry']['spacing']:.0f}, RMS dev. (T 1-3) {100 * rms:.1f} %"
+        name = labels[n] if labels else f"{sc.get('name', run)}: a/dx = {a / sc['geometry']['spacing']:.0f}"
+        label = f"{name}, RMS dev. (T 1-3) {100 * rms:.1f} %"
         ax.plot(s["t"] * np.sqrt(2 * g / a), s["front"] / a, "-", label=label)
     ax.set_xlabel("T = t sqrt(2g/a)")
     ax.set_ylabel("Z = z/a")
@@ -63,11 +71,8 @@ def plot_pressure(runs, png):
     fig, ax = plt.subplots(figsize=(5, 5))
     for run in runs:
         sc = scene_of(run)
-        snaps = sorted(glob.glob(os.path.join(run, "snapshot_*.h5")))
-        with h5py.File(snaps[-1]) as f:
-            x, p, kind, t = f["x"][:], f["pressure"][:], f["kind"][:], f.attrs["time"][0]
+        x, p, fluid, t = last_snapshot(run)
         dim = x.shape[1]
-        fluid = kind == 0
         y = x[fluid, dim - 1]
         rho = sc.get("material", {}).get("density", 1000.0)
         g = abs(sc.get("material", {}).get("gravity", [0] * (dim - 1) + [-9.81])[-1])
