@@ -82,12 +82,7 @@ void run_all(std::vector<bench::Record>& out) {
 
 int main(int argc, char** argv) {
   Kokkos::ScopeGuard kokkos(argc, argv);
-  const std::string path = argc > 1 ? argv[1] : "dem_contacts.json";
   const bool serial = !(argc > 2 && std::string(argv[2]) == "--no-serial");
-  std::vector<bench::Record> records;
-#ifdef KOKKOS_ENABLE_SERIAL
-  if (serial) run_all<Kokkos::Serial>(records);
-#endif
-  run_all<Kokkos::DefaultExecutionSpace>(records);
-  bench::write_json(path, records);
+  bench::run_on_backends(serial, argc > 1 ? argv[1] : "dem_contacts.json",
+                         [](auto space, auto& records) { run_all<decltype(space)>(records); });
 }

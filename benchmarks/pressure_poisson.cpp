@@ -384,10 +384,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  std::vector<bench::Record> records;
-#ifdef KOKKOS_ENABLE_SERIAL
-  if (opt.serial) run_all<Kokkos::Serial>(records, opt);
-#endif
-  run_all<Kokkos::DefaultExecutionSpace>(records, opt);
-  bench::write_json(path, records);
+  bench::run_on_backends(opt.serial, path, [&](auto space, auto& records) {
+    run_all<decltype(space)>(records, opt);
+  });
 }

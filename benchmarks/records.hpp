@@ -2,6 +2,7 @@
 // Benchmark records: one flat JSON object per measured case, fields in the order they
 // were added, all records of a program written as one JSON array. Shared by every
 // benchmark so that the files read alike (benchmarks/suite.py and RESULTS.md read them).
+#include <Kokkos_Core.hpp>
 #include <fmt/core.h>
 #include <fmt/os.h>
 
@@ -53,6 +54,18 @@ inline void write_json(const std::string& path, const std::vector<Record>& recor
   out.print("]\n");
   out.close();
   fmt::print("wrote {}\n", path);
+}
+
+// Runs a benchmark's cases, run_all(space, records), on Serial (unless `serial` is
+// false) and on the default execution space, and writes all records to `path`.
+template <class RunAll>
+void run_on_backends(bool serial, const std::string& path, RunAll&& run_all) {
+  std::vector<Record> records;
+#ifdef KOKKOS_ENABLE_SERIAL
+  if (serial) run_all(Kokkos::Serial(), records);
+#endif
+  run_all(Kokkos::DefaultExecutionSpace(), records);
+  write_json(path, records);
 }
 
 }  // namespace dvisph::bench

@@ -75,16 +75,7 @@ class NeighborList {
     // that drifted beyond the radius are skipped (a list built with a skin stays valid).
     template <class F>
     KOKKOS_INLINE_FUNCTION void for_each(int i, const Vec<D>& xi, F&& f) const {
-      for (int a = offsets(i); a < offsets(i + 1); ++a) {
-        const int j = neighbors(a);
-        Vec<D> xij;
-        Real r2 = 0;
-        for (int k = 0; k < D; ++k) {
-          xij[k] = xi[k] - x(j, k);
-          r2 += xij[k] * xij[k];
-        }
-        if (r2 < radius2) f(j, xij, math::sqrt(r2));
-      }
+      for (int a = offsets(i); a < offsets(i + 1); ++a) visit_within(x, neighbors(a), xi, radius2, f);
     }
   };
   // The sweep over stored pairs; `radius` may be smaller than the build radius.

@@ -8,6 +8,20 @@
 
 namespace dvisph {
 
+// Calls f(j, xi - x_j, |xi - x_j|) when candidate j lies within sqrt(radius2) of xi:
+// the distance test every sweep applies to its candidates.
+template <int D, class XView, class F>
+KOKKOS_INLINE_FUNCTION void visit_within(const XView& x, int j, const Vec<D>& xi, Real radius2,
+                                         F&& f) {
+  Vec<D> xij;
+  Real r2 = 0;
+  for (int k = 0; k < D; ++k) {
+    xij[k] = xi[k] - x(j, k);
+    r2 += xij[k] * xij[k];
+  }
+  if (r2 < radius2) f(j, xij, math::sqrt(r2));
+}
+
 template <int D, class Space>
 struct CellSweep {
   using execution_space = Space;
@@ -35,16 +49,7 @@ struct CellSweep {
     grid.for_each_row(c, reach, [&](int first, int last) {
       // the cells of a row are contiguous in the permutation
       const int end = offsets(last + 1);
-      for (int a = offsets(first); a < end; ++a) {
-        const int j = particles(a);
-        Vec<D> xij;
-        Real r2 = 0;
-        for (int k = 0; k < D; ++k) {
-          xij[k] = xi[k] - x(j, k);
-          r2 += xij[k] * xij[k];
-        }
-        if (r2 < radius2) f(j, xij, math::sqrt(r2));
-      }
+      for (int a = offsets(first); a < end; ++a) visit_within(x, particles(a), xi, radius2, f);
     });
   }
 };
