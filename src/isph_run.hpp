@@ -45,6 +45,8 @@ class IsphRun {
           density_error_p95_,
           p95_histogram_(solver_.density(), solver_.pressure(), solver_.invariance(),
                          solver_.reference_density(), solver_.size()));
+    wall_penetration_ = std::max(wall_penetration_, wall_penetration<D, Space>(p.x, p.kind, solver_.size(),
+                                                                             s_.tank, s_.open_top));
     if (dam_break_) {
       front_.T.push_back(info.t * std::sqrt(2 * g_ / s_.column_width));
       front_.Z.push_back(front / s_.column_width);
@@ -84,6 +86,7 @@ class IsphRun {
     c.set("isph_run/cg_max", cg_max_);
     c.set("isph_run/max_density_error", max_density_error_);
     c.set("isph_run/density_error_p95", density_error_p95_);
+    c.set("isph_run/wall_penetration", wall_penetration_);
     c.put("isph_run/front_T", host_view(front_.T));
     c.put("isph_run/front_Z", host_view(front_.Z));
   }
@@ -93,6 +96,7 @@ class IsphRun {
     cg_max_ = static_cast<int>(c.number("isph_run/cg_max"));
     max_density_error_ = c.number("isph_run/max_density_error");
     density_error_p95_ = c.number("isph_run/density_error_p95");
+    wall_penetration_ = c.number("isph_run/wall_penetration");
     for (auto* v : {&front_.T, &front_.Z}) {
       const std::string name = v == &front_.T ? "isph_run/front_T" : "isph_run/front_Z";
       v->resize(c.extents(name).at(0));
@@ -120,8 +124,10 @@ class IsphRun {
   }
 
   std::string metrics() const {
-    std::string m = fmt::format("\"max_density_error\": {:.6g}, \"density_error_p95\": {:.6g}",
-                                max_density_error_, density_error_p95_);
+    std::string m = fmt::format(
+        "\"max_density_error\": {:.6g}, \"density_error_p95\": {:.6g}, "
+        "\"wall_penetration_over_dx\": {:.4g}",
+        max_density_error_, density_error_p95_, wall_penetration_ / s_.spacing);
     if (dam_break_) {
       int points = 0;
       const auto data = martin_moyce();
@@ -160,6 +166,7 @@ class IsphRun {
   FrontData front_;
   double max_density_error_ = 0;
   double density_error_p95_ = 0;  // largest over the steps of the p95 over particles
+  double wall_penetration_ = 0;   // m, deepest over the series rows
   DensityErrorP95<Space> p95_histogram_;
   double pair_visits_ = 0;        // neighbour pairs swept by this process's steps
   long cg_total_ = 0;

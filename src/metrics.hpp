@@ -24,6 +24,28 @@ Real front_position(const X& x, const KindV& kind, int n) {
   return front;
 }
 
+// How far the deepest fluid particle centre lies past the tank's inner faces (0 if
+// none; the open top does not count). Walls hold water back by pressure alone, so this
+// is what they let through.
+template <int D, class Space, class X, class KindV>
+Real wall_penetration(const X& x, const KindV& kind, int n, const Box& tank, bool open_top) {
+  Vec<D> lo, hi;
+  for (int k = 0; k < D; ++k) lo[k] = tank.lo[k], hi[k] = tank.hi[k];
+  const int faces_up = open_top ? D - 1 : D;  // axes whose upper face is a wall
+  Real depth = 0;
+  Kokkos::parallel_reduce(
+      "dvisph::metrics::wall_penetration", Kokkos::RangePolicy<Space>(0, n),
+      KOKKOS_LAMBDA(int i, Real& m) {
+        if (kind(i) != Kind::fluid) return;
+        for (int k = 0; k < D; ++k) {
+          m = math::max(m, lo[k] - x(i, k));
+          if (k < faces_up) m = math::max(m, x(i, k) - hi[k]);
+        }
+      },
+      Kokkos::Max<Real>(depth));
+  return math::max(depth, 0);
+}
+
 // Submerged: the paper's density error counts particles with P >= 100 Pa
 // ("near-surface particles excluded"). Particles whose support reaches well into the
 // air are left out too (the solver's invariance weight is 0: on the surface, or div r
