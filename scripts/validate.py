@@ -54,6 +54,14 @@ either. Peer codes make the same observation: the Lethe CFD examples compare wit
 & Moyce after adding 0.175 to the simulated T (chaos-polymtl/lethe,
 examples/multiphysics/dam-break; "with T + 0.175" applies that shift here), and PySPH,
 SPHinXsys and TrixiParticles only plot against the data, without a tolerance.
+`wall_penetration_over_dx` is how far the deepest fluid particle centre got past the
+tank's inner faces over the run, in spacings. The walls hold water back by pressure
+alone (docs/isph.md), and in 3D they let some through: at a/dx = 20 a few dozen
+particles in the corners of the back wall and on the floor under the front end 0.5-0.9
+dx inside the wall, 5-10 % over-dense; they carry the 3D dam break's largest density
+errors. A stronger density-invariance term pushes them back: `dvisph run
+scenes/dam_break_3d.yaml --set numerics.gamma=1` halves the depth (0.44 dx) and the
+largest density error (6.4 %) with the same front. In 2D it stays at 0.02-0.1 dx.
 The density error is the largest over submerged particles (P >= 100 Pa, surface
 particles left out) and the whole run, with gamma = 0.1 (the default since the
 density-invariance term is weighted by how full the support is; docs/isph.md). With
