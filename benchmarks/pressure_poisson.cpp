@@ -167,9 +167,10 @@ bench::Record run(long target_n, const Options& opt, double triad) {
   const Real gamma[max_rhs] = {0.001, 0.01};
   using Ppe = PressurePoisson<D, typename NeighborList<D, Space>::Sweep, Kernel, decltype(x),
                               decltype(role)>;
-  const Ppe ppe_list{list.sweep(), kernel, x, role, volume, full_diagonal};
+  const auto walls = tank_walls<D>(scene.tank);
+  const Ppe ppe_list{list.sweep(), kernel, x, role, volume, full_diagonal, walls};
   const PressurePoisson<D, CellSweep<D, Space>, Kernel, decltype(x), decltype(role)> ppe_cell{
-      cell_sweep, kernel, x, role, volume, full_diagonal};
+      cell_sweep, kernel, x, role, volume, full_diagonal, walls};
   ppe_list.assemble(vstar, rho, invariance, rho0, surface_test.rho_ref, g, dt, gamma, diag, b, n);
   PoissonMatrix<Space> csr;
   const auto csr_build = bench::time_it<Space>(

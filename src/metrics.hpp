@@ -24,9 +24,9 @@ Real front_position(const X& x, const KindV& kind, int n) {
   return front;
 }
 
-// How far the deepest fluid particle centre lies past the tank's inner faces (0 if
-// none; the open top does not count). Walls hold water back by pressure alone, so this
-// is what they let through.
+// How far the deepest fluid particle centre lies inside the tank's walls (0 if none):
+// past an inner face, and not above an open top (a splash that flew over a wall is not
+// in it).
 template <int D, class Space, class X, class KindV>
 Real wall_penetration(const X& x, const KindV& kind, int n, const Box& tank, bool open_top) {
   Vec<D> lo, hi;
@@ -36,7 +36,7 @@ Real wall_penetration(const X& x, const KindV& kind, int n, const Box& tank, boo
   Kokkos::parallel_reduce(
       "dvisph::metrics::wall_penetration", Kokkos::RangePolicy<Space>(0, n),
       KOKKOS_LAMBDA(int i, Real& m) {
-        if (kind(i) != Kind::fluid) return;
+        if (kind(i) != Kind::fluid || (faces_up < D && x(i, D - 1) > hi[D - 1])) return;
         for (int k = 0; k < D; ++k) {
           m = math::max(m, lo[k] - x(i, k));
           if (k < faces_up) m = math::max(m, x(i, k) - hi[k]);

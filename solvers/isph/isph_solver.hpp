@@ -193,7 +193,7 @@ class IsphSolver {
 
   void solve_pressure() {
     const PressurePoisson<D, Sweep, Kernel, decltype(p_.x), decltype(role_)> ppe{
-        list_.sweep(), kernel_, p_.x, role_, volume_, full_diagonal_};
+        list_.sweep(), kernel_, p_.x, role_, volume_, full_diagonal_, walls_};
     ppe.assemble(vstar_, rho_, invariance_, rho0_, rho_ref_, g_, info_.dt, gamma_, diag_, rhs_, n_);
     ppe.warm_start(pressure_, n_);
     CgResult result;
@@ -286,6 +286,7 @@ class IsphSolver {
     const auto ref = support_reference<D>(kernel_, scene_.spacing, rho0_);
     rho_ref_ = ref.rho;
     full_diagonal_ = ref.laplacian;
+    walls_ = tank_walls<D>(scene_.tank);
     const bool by_density = scene_.surface_criterion == "density";
     return {by_density, scene_.surface_density_threshold, scene_.surface_divergence_threshold,
             scene_.invariance_support[0], scene_.invariance_support[1], ref.rho, ref.div_r, rho0_, g_};
@@ -303,6 +304,7 @@ class IsphSolver {
   Real volume_, rho0_, rho_ref_ = 0;
   SurfaceTest<D> surface_test_;
   Real full_diagonal_ = 0;
+  TankWalls<D> walls_;
   Vec<D> g_, domain_lo_, domain_hi_;
   Real gamma_[max_rhs];
   int nrhs_ = 1;

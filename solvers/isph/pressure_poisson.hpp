@@ -12,12 +12,20 @@
 //               surface layer gets the pressure of its depth and the symmetric
 //               gradient holds it up. No fluid particle is Dirichlet and no role flip
 //               changes the matrix abruptly.
-//   wall rows:  b = -L(P_h), P_h = rho0 g.x: the wall pressure continues the
-//               fluid's with the hydrostatic gradient (a Neumann condition) and the
+//   wall rows:  the wall pressure continues the fluid's, a Neumann condition: the
+//               hydrostatic gradient, b = -L(P_h), P_h = rho0 g.x, plus, where the
+//               water moves into the wall, the step dP/dn = rho0 vn / dt that brings
+//               its normal velocity vn to rest (vn: the Shepard average over the wall
+//               particle's water neighbours of v*.n beyond gravity's share; n from the
+//               tank's faces, tank_walls.hpp). Without that step the hydrostatic
+//               continuation lets a front driven into a wall go through it
+//               (docs/stability.md, dam_break_2d_impact). Water moving away from a wall
+//               is not pulled back: the term only pushes. Only b carries it: the
 //               matrix stays symmetric.
 // Several right-hand sides differ only in gamma; they share every traversal.
 #include "kernels/laplacian.hpp"
 #include "solvers/isph/roles.hpp"
+#include "solvers/isph/tank_walls.hpp"
 #include "solvers/pcg.hpp"
 
 namespace dvisph {
@@ -31,6 +39,7 @@ struct PressurePoisson {
   RoleV role;
   Real volume;         // of every particle
   Real full_diagonal;  // sum of |Laplacian weights| over a full lattice support
+  TankWalls<D> walls;
 
   // diag(i) and b(i, k) for gamma[k], k < b.extent(1); zero on rows that are not unknowns.
   // invariance(i): the weight of the density-invariance term (density_and_roles).
@@ -52,14 +61,27 @@ struct PressurePoisson {
             return;
           }
           const Vec<D> vi = row<D>(vstar, i);
-          Real d = 0, div = 0, wall_source = 0;
+          const bool wall = ri == Role::wall;
+          const Vec<D> n = wall ? self.walls.inward_normal(row<D>(self.x, i)) : Vec<D>::zero();
+          Real d = 0, div = 0, wall_source = 0, approach = 0, shepard = 0, lever = 0;
           self.sweep.for_each(i, row<D>(self.x, i), [&](int j, const Vec<D>& xij, Real r) {
-            if (!in_stencil(self.role(j))) return;
+            const Role rj = self.role(j);
+            if (!in_stencil(rj)) return;
             const Real w = laplacian_weight<D>(self.kernel, r, self.volume);
+            const Vec<D> vj = row<D>(vstar, j);
             d -= w;
-            div += self.volume * dot(row<D>(vstar, j) - vi, self.kernel.grad(xij, r));
+            div += self.volume * dot(vj - vi, self.kernel.grad(xij, r));
             wall_source += w * dot(g, xij);
+            if (wall && water(rj)) {
+              const Real W = self.kernel.W(r);
+              approach += W * (dot(vj, n) - dt * dot(g, n));
+              shepard += W;
+              lever += w * dot(n, xij);
+            }
           });
+          // the water's mean normal velocity at the wall (beyond gravity's), where it
+          // moves into the wall: dP/dn = rho0 vn / dt brings it to rest
+          if (shepard > 0) wall_source += math::min(0, approach / shepard) / dt * lever;
           const Real air = ri == Role::wall ? 0 : 2 * math::max(0, self.full_diagonal - d);
           diag(i) = d + air;
           for (int k = 0; k < K; ++k) {

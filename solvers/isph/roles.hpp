@@ -27,6 +27,7 @@ enum class Role : std::uint8_t { excluded = 0, dirichlet = 1, fluid = 2, surface
 
 KOKKOS_INLINE_FUNCTION bool in_stencil(Role r) { return r != Role::excluded; }
 KOKKOS_INLINE_FUNCTION bool unknown(Role r) { return r >= Role::fluid; }
+KOKKOS_INLINE_FUNCTION bool water(Role r) { return r == Role::fluid || r == Role::surface; }
 
 template <int D>
 struct SurfaceTest {
