@@ -47,21 +47,20 @@ Moyce best and `..._after_lag` the deviation left after it: the simulated fronts
 the measured shape and lead the data by about 0.2-0.3 in T (10-15 ms at a = 5 cm),
 which is the size of the delay usually put down to the gate opening in the experiment.
 The front study below refines the 2D dam break in space and in time: the deviation
-converges with resolution (to about 16 %), not to the data, and does not depend on the
-time step, so the lead is not a numerical error of the solver. The simulated tip is
+converges with resolution (to about 16 %), not to the data, and moves by less than 0.6
+points with a 2.5 times smaller time step, so the lead is not a numerical error of the
+solver. The simulated tip is
 blunt (a few particles thick, see the snapshots), so the lead is not a thin leading film
 either. Peer codes make the same observation: the Lethe CFD examples compare with Martin
 & Moyce after adding 0.175 to the simulated T (chaos-polymtl/lethe,
 examples/multiphysics/dam-break; "with T + 0.175" applies that shift here), and PySPH,
 SPHinXsys and TrixiParticles only plot against the data, without a tolerance.
-`wall_penetration_over_dx` is how far the deepest fluid particle centre got past the
-tank's inner faces over the run, in spacings. The walls hold water back by pressure
-alone (docs/isph.md), and in 3D they let some through: at a/dx = 20 a few dozen
-particles in the corners of the back wall and on the floor under the front end 0.5-0.9
-dx inside the wall, 5-10 % over-dense; they carry the 3D dam break's largest density
-errors. A stronger density-invariance term pushes them back: `dvisph run
-scenes/dam_break_3d.yaml --set numerics.gamma=1` halves the depth (0.44 dx) and the
-largest density error (6.4 %) with the same front. In 2D it stays at 0.02-0.1 dx.
+`wall_penetration_over_dx` is how far the deepest fluid particle centre got inside the
+tank's walls over the run, in spacings. With the hydrostatic wall condition alone the 3D
+dam break ended with particles 0.92 dx inside the back wall and the floor, 5-10 %
+over-dense, and those carried its largest density error (11 %); the wall condition's
+step that stops water moving into a wall (docs/isph.md) brought that to the figures
+above.
 The density error is the largest over submerged particles (P >= 100 Pa, surface
 particles left out) and the whole run, with gamma = 0.1 (the default since the
 density-invariance term is weighted by how full the support is; docs/isph.md). With
@@ -71,12 +70,12 @@ The hydrostatic `pressure_max_pointwise_relative_error` is |P - rho g (H - y)| /
 it sits in the third layer, where rho g (H - y) is 60-80 Pa and a settling of the
 column by a few tenths of a millimetre shifts P by 1-2 Pa. The layer tables below (last
 snapshot, layers counted from the nominal surface) separate scatter from offset. In 2D
-the layer means from the third layer down are within 0.21 % and the 2.6 % is single
-particles (1-2 Pa of scatter). In 3D (500 steps) the means sit 0.5-0.9 % high in every
-layer, which is what a water surface 0.02-0.03 dx above its nominal height gives
+the layer means from the third layer down are within 0.3 % and the pointwise figure is
+single particles (1-2 Pa of scatter). In 3D (500 steps) the means sit 0.4-0.9 % high in
+every layer, which is what a water surface 0.02-0.03 dx above its nominal height gives
 (rho g times that offset, divided by the depth): a pointwise 1 % at 2.5 dx depth asks
 for the free surface to within 1/40 of a spacing. Measured against rho g H, every
-particle below the top two layers is within 0.71 % (2D) and 0.48 % (3D).
+particle below the top two layers is within the pressure_max_error_over_rho_g_H above.
 
 """
 
