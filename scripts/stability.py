@@ -152,8 +152,11 @@ FINDINGS = {
         "at the impact, is 9.8-21 %. At the scene's spacing (a/dx = 40, `dvisph run "
         "scenes/dam_break_2d.yaml --set 'geometry.tank.hi=[0.2, 0.4]' --set end_time=0.4`): "
         "0.17 dx, largest density error 16 %, p95 2.1 % (before: a particle left through the "
-        "wall at t = 0.177 s). Next: the impact's density error, with the dual-velocity step's "
-        "transport correction.",
+        "wall at t = 0.177 s). In 3D (`dvisph run scenes/dam_break_3d.yaml --set end_time=0.32`, "
+        "a/dx = 20, the front at the far wall from t = 0.21 s) the run now finishes where a "
+        "particle left through a corner at t = 0.238 s, but water gets 0.75 dx into the corner "
+        "walls (largest density error 19.5 %, p95 3.8 %). Next: the corners, and the impact's "
+        "density error with the dual-velocity step's transport correction.",
     "hydrostatic_2d":
         "Every cell keeps all particles; every CG converged. The density error is the largest "
         "over the run, which for a jittered start is the jitter itself (about 5 %). Without "
