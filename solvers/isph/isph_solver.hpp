@@ -57,6 +57,7 @@ class IsphSolver {
     domain_lo_ = init.domain_lo;
     domain_hi_ = init.domain_hi;
     for (int k = 0; k < D; ++k) g_[k] = s.gravity[k];
+    walls_ = tank_walls<D>(s.tank);
     gamma_[0] = gamma_[1] = s.gamma;
     nrhs_ = 1;  // alpha = beta: one solve
 
@@ -286,7 +287,6 @@ class IsphSolver {
     const auto ref = support_reference<D>(kernel_, scene_.spacing, rho0_);
     rho_ref_ = ref.rho;
     full_diagonal_ = ref.laplacian;
-    walls_ = tank_walls<D>(scene_.tank);
     const bool by_density = scene_.surface_criterion == "density";
     return {by_density, scene_.surface_density_threshold, scene_.surface_divergence_threshold,
             scene_.invariance_support[0], scene_.invariance_support[1], ref.rho, ref.div_r, rho0_, g_};

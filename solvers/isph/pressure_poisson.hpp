@@ -82,10 +82,10 @@ struct PressurePoisson {
           // the water's mean normal velocity at the wall (beyond gravity's), where it
           // moves into the wall: dP/dn = rho0 vn / dt brings it to rest
           if (shepard > 0) wall_source += math::min(0, approach / shepard) / dt * lever;
-          const Real air = ri == Role::wall ? 0 : 2 * math::max(0, self.full_diagonal - d);
+          const Real air = wall ? 0 : 2 * math::max(0, self.full_diagonal - d);
           diag(i) = d + air;
           for (int k = 0; k < K; ++k) {
-            if (ri == Role::wall) b(i, k) = -rho0 * wall_source;
+            if (wall) b(i, k) = -rho0 * wall_source;
             else b(i, k) = -rho0 / dt * div -
                            invariance(i) * gam[k] * rho0 * (1 - rho(i) / rho_ref) / (dt * dt);
           }
