@@ -167,7 +167,7 @@ bench::Record run(long target_n, const Options& opt, double triad) {
   const Real gamma[max_rhs] = {0.001, 0.01};
   using Ppe = PressurePoisson<D, typename NeighborList<D, Space>::Sweep, Kernel, decltype(x),
                               decltype(role)>;
-  const auto walls = tank_walls<D>(scene.tank);
+  const auto walls = tank_walls<D>(scene);
   const Ppe ppe_list{list.sweep(), kernel, x, role, volume, full_diagonal, walls};
   const PressurePoisson<D, CellSweep<D, Space>, Kernel, decltype(x), decltype(role)> ppe_cell{
       cell_sweep, kernel, x, role, volume, full_diagonal, walls};

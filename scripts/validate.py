@@ -64,7 +64,8 @@ above.
 The density error is the largest over submerged particles (P >= 100 Pa, surface
 particles left out) and the whole run, with gamma = 0.1 (the default since the
 density-invariance term is weighted by how full the support is; docs/isph.md). With
-gamma = 0.001 the 2D tank gave 1.09 % (still above 1 %) and the dam breaks 8-12 %.
+gamma = 0.001 the 2D tank gave 1.09 % (still above 1 %) and the dam breaks 8-12 %
+(sessions 1-2, before that weighting and the wall condition).
 The hydrostatic `pressure_max_pointwise_relative_error` is |P - rho g (H - y)| /
 (rho g (H - y)) at its worst below the top two layers, with H the nominal water height;
 it sits in the third layer, where rho g (H - y) is 60-80 Pa and a settling of the

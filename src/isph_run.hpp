@@ -14,7 +14,11 @@ template <int D, class Kernel, class Space = Kokkos::DefaultExecutionSpace>
 class IsphRun {
  public:
   explicit IsphRun(const Scene& s)
-      : s_(s), solver_(s), g_(std::abs(s.gravity[D - 1])), dam_break_(s.metrics_kind == "dam_break") {}
+      : s_(s),
+        solver_(s),
+        g_(std::abs(s.gravity[D - 1])),
+        dam_break_(s.metrics_kind == "dam_break"),
+        walls_(tank_walls<D>(s)) {}
 
   void step() {
     const StepInfo& info = solver_.step();
@@ -45,8 +49,8 @@ class IsphRun {
           density_error_p95_,
           p95_histogram_(solver_.density(), solver_.pressure(), solver_.invariance(),
                          solver_.reference_density(), solver_.size()));
-    wall_penetration_ = std::max(wall_penetration_, wall_penetration<D, Space>(p.x, p.kind, solver_.size(),
-                                                                             s_.tank, s_.open_top));
+    wall_penetration_ =
+        std::max(wall_penetration_, wall_penetration<D, Space>(p.x, p.kind, solver_.size(), walls_));
     if (dam_break_) {
       front_.T.push_back(info.t * std::sqrt(2 * g_ / s_.column_width));
       front_.Z.push_back(front / s_.column_width);
@@ -164,6 +168,7 @@ class IsphRun {
   double g_;
   bool dam_break_;
   FrontData front_;
+  TankWalls<D> walls_;
   double max_density_error_ = 0;
   double density_error_p95_ = 0;  // largest over the steps of the p95 over particles
   double wall_penetration_ = 0;   // m, deepest over the series rows

@@ -1,6 +1,7 @@
 #pragma once
 // Figures a run reports while it goes (series.csv) and at its end (summary.json).
 #include "solvers/isph/roles.hpp"
+#include "solvers/isph/tank_walls.hpp"
 #include "src/scene.hpp"
 
 #include <cmath>
@@ -24,26 +25,17 @@ Real front_position(const X& x, const KindV& kind, int n) {
   return front;
 }
 
-// How far the deepest fluid particle centre lies inside the tank's walls (0 if none):
-// past an inner face, and not above an open top (a splash that flew over a wall is not
-// in it).
+// How far the deepest fluid particle centre lies inside the tank's walls (0 if none).
 template <int D, class Space, class X, class KindV>
-Real wall_penetration(const X& x, const KindV& kind, int n, const Box& tank, bool open_top) {
-  Vec<D> lo, hi;
-  for (int k = 0; k < D; ++k) lo[k] = tank.lo[k], hi[k] = tank.hi[k];
-  const int faces_up = open_top ? D - 1 : D;  // axes whose upper face is a wall
+Real wall_penetration(const X& x, const KindV& kind, int n, const TankWalls<D>& walls) {
   Real depth = 0;
   Kokkos::parallel_reduce(
       "dvisph::metrics::wall_penetration", Kokkos::RangePolicy<Space>(0, n),
       KOKKOS_LAMBDA(int i, Real& m) {
-        if (kind(i) != Kind::fluid || (faces_up < D && x(i, D - 1) > hi[D - 1])) return;
-        for (int k = 0; k < D; ++k) {
-          m = math::max(m, lo[k] - x(i, k));
-          if (k < faces_up) m = math::max(m, x(i, k) - hi[k]);
-        }
+        if (kind(i) == Kind::fluid) m = math::max(m, walls.depth_inside(row<D>(x, i)));
       },
       Kokkos::Max<Real>(depth));
-  return math::max(depth, 0);
+  return depth;
 }
 
 // Submerged: the paper's density error counts particles with P >= 100 Pa

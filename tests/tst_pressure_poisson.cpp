@@ -66,7 +66,7 @@ geometry:
 
   using PPE = PressurePoisson<D, NeighborList<D, TestSpace>::Sweep, CubicSpline<D>, decltype(x),
                               decltype(role)>;
-  const PPE ppe{list.sweep(), kernel, x, role, volume, ref.laplacian, tank_walls<D>(scene.tank)};
+  const PPE ppe{list.sweep(), kernel, x, role, volume, ref.laplacian, tank_walls<D>(scene)};
   const Real gamma[max_rhs] = {0.0, 0.5};
   ppe.assemble(vstar, rho, invariance, rho0, ref.rho, Vec<D>{{0, -9.81}}, dt, gamma, diag, b, n);
   ConjugateGradient<TestSpace> cg;

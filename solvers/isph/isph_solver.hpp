@@ -57,7 +57,7 @@ class IsphSolver {
     domain_lo_ = init.domain_lo;
     domain_hi_ = init.domain_hi;
     for (int k = 0; k < D; ++k) g_[k] = s.gravity[k];
-    walls_ = tank_walls<D>(s.tank);
+    walls_ = tank_walls<D>(s);
     gamma_[0] = gamma_[1] = s.gamma;
     nrhs_ = 1;  // alpha = beta: one solve
 
