@@ -133,7 +133,8 @@ bench::Record run(long target_n, const Options& opt, double triad) {
       v("dvisph::bench::ppe::v", n), vstar("dvisph::bench::ppe::vstar", n);
   Kokkos::View<Kind*, Mem> kind0("dvisph::bench::ppe::kind_unsorted", n), kind("dvisph::bench::ppe::kind", n);
   Kokkos::View<Real*, Mem> m("dvisph::bench::ppe::m", n), rho("dvisph::bench::ppe::rho", n),
-      invariance("dvisph::bench::ppe::invariance", n), diag("dvisph::bench::ppe::diag", n);
+      invariance("dvisph::bench::ppe::invariance", n),
+      truncation("dvisph::bench::ppe::truncation", n), diag("dvisph::bench::ppe::diag", n);
   Kokkos::View<Role*, Mem> role("dvisph::bench::ppe::role", n);
   Kokkos::View<Real**, Mem> b("dvisph::bench::ppe::b", n, 2), guess("dvisph::bench::ppe::guess", n, 2),
       p2("dvisph::bench::ppe::p2", n, 2), q2("dvisph::bench::ppe::q2", n, 2),
@@ -158,10 +159,10 @@ bench::Record run(long target_n, const Options& opt, double triad) {
   list.build(cell_sweep, x, n);
   const auto ref = support_reference<D>(kernel, dx, rho0);
   const Real full_diagonal = ref.laplacian;
-  const SurfaceTest<D> surface_test{false, 0.95, 0.75, 0.9, 0.98, ref.rho, ref.div_r, rho0, g};
+  const SurfaceTest<D> test = surface_test<D>(scene, ref);
   // no last pressure yet: `guess` is still zero
-  density_and_roles<D>(list.sweep(), kernel, x, m, kind, guess, volume, surface_test, rho, role,
-                       invariance, n);
+  density_and_roles<D>(list.sweep(), kernel, x, m, kind, guess, ClearWater{}, volume, test, rho,
+                       role, invariance, truncation, n);
   const Real dt = std::min(1e-3, 0.25 * std::sqrt(kernel.h / g_abs));  // IsphSolver's first dt
   predictor<D>(list.sweep(), kernel, x, v, kind, g, 0.0, true, volume, dt, vstar, n);
   const Real gamma[max_rhs] = {0.001, 0.01};
@@ -171,7 +172,7 @@ bench::Record run(long target_n, const Options& opt, double triad) {
   const Ppe ppe_list{list.sweep(), kernel, x, role, volume, full_diagonal, walls};
   const PressurePoisson<D, CellSweep<D, Space>, Kernel, decltype(x), decltype(role)> ppe_cell{
       cell_sweep, kernel, x, role, volume, full_diagonal, walls};
-  ppe_list.assemble(vstar, rho, invariance, rho0, surface_test.rho_ref, g, dt, gamma, diag, b, n);
+  ppe_list.assemble(vstar, rho, invariance, rho0, test.rho_ref, g, dt, gamma, diag, b, n);
   PoissonMatrix<Space> csr;
   const auto csr_build = bench::time_it<Space>(
       [&] { csr.build(ppe_list, n); }, 3);

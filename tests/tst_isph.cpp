@@ -57,13 +57,13 @@ TankResult run_tank(const std::vector<std::string>& overrides, int steps) {
   IsphSolver<2, WendlandC2<2>, TestSpace> solver(s);
   const int fluid = solver.count(Kind::fluid);
   TankResult r;
+  DensityError<TestSpace> density_error;
   for (int step = 0; step < steps; ++step) {
     solver.step();  // throws if a particle leaves the domain or CG fails
-    r.worst_density_error =
-        std::max(r.worst_density_error,
-                 double(max_density_error<TestSpace>(solver.density(), solver.pressure(),
-                                                     solver.invariance(), solver.reference_density(),
-                                                     solver.size())));
+    const auto e = density_error.paper_rule<2>(solver.neighbors(), solver.particles().kind,
+                                               solver.density(), solver.pressure(), solver.truncation(),
+                                               solver.reference_density(), solver.size());
+    r.worst_density_error = std::max(r.worst_density_error, double(e.max));
   }
   r.errors = hydrostatic_errors<2>(solver, s);
   r.kept_all = solver.count(Kind::fluid) == fluid;

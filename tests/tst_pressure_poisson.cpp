@@ -40,7 +40,8 @@ geometry:
 
   Kokkos::View<Real* [D], Mem> x("x", n), vstar("vstar", n);
   Kokkos::View<Kind*, Mem> kind("kind", n);
-  Kokkos::View<Real*, Mem> m("m", n), rho("rho", n), invariance("invariance", n), diag("diag", n);
+  Kokkos::View<Real*, Mem> m("m", n), rho("rho", n), invariance("invariance", n),
+      truncation("truncation", n), diag("diag", n);
   Kokkos::View<Role*, Mem> role("role", n);
   copy_points<D>(init.x, x);
   {
@@ -61,8 +62,9 @@ geometry:
   list.build(CellSweep<D, TestSpace>(cells, x, kernel.radius()), x, n);
   Kokkos::View<Real**, Mem> b("b", n, 2), p("p", n, 2);
   const auto ref = support_reference<D>(kernel, dx, rho0);
-  const SurfaceTest<D> test{false, 0.95, 0.75, 0.9, 0.98, ref.rho, ref.div_r, rho0, Vec<D>{{0, -9.81}}};
-  density_and_roles<D>(list.sweep(), kernel, x, m, kind, p, volume, test, rho, role, invariance, n);
+  const SurfaceTest<D> test = surface_test<D>(scene, ref);
+  density_and_roles<D>(list.sweep(), kernel, x, m, kind, p, ClearWater{}, volume, test, rho, role,
+                       invariance, truncation, n);
 
   using PPE = PressurePoisson<D, NeighborList<D, TestSpace>::Sweep, CubicSpline<D>, decltype(x),
                               decltype(role)>;

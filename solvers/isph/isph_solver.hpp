@@ -7,6 +7,7 @@
 #include "solvers/isph/corrector.hpp"
 #include "solvers/isph/predictor.hpp"
 #include "solvers/isph/free_surface.hpp"
+#include "solvers/isph/medium.hpp"
 #include "solvers/isph/poisson_matrix.hpp"
 #include "solvers/isph/roles.hpp"
 #include "solvers/isph/wet_cells.hpp"
@@ -73,6 +74,7 @@ class IsphSolver {
     rho_ = Kokkos::View<Real*, memory_space>("dvisph::sph::rho", n_);
     role_ = Kokkos::View<Role*, memory_space>("dvisph::sph::role", n_);
     invariance_ = Kokkos::View<Real*, memory_space>("dvisph::sph::invariance", n_);
+    truncation_ = Kokkos::View<Real*, memory_space>("dvisph::sph::truncation", n_);
     vstar_ = Kokkos::View<Real* [D], memory_space>("dvisph::sph::vstar", n_);
     diag_ = Kokkos::View<Real*, memory_space>("dvisph::sph::diag", n_);
     rhs_ = Kokkos::View<Real**, memory_space>("dvisph::sph::rhs", n_, nrhs_);
@@ -111,12 +113,17 @@ class IsphSolver {
   Kokkos::View<const Role*, memory_space> roles() const { return role_; }
   // weight of the density-invariance term: 0 where the support reaches into the air
   Kokkos::View<const Real*, memory_space> invariance() const { return invariance_; }
+  // how much of a fluid particle's support a free surface cuts off (roles.hpp)
+  Kokkos::View<const Real*, memory_space> truncation() const { return truncation_; }
+  // the step's neighbour pairs (valid after a step)
+  Sweep neighbors() const { return list_.sweep(); }
   Real reference_density() const { return rho_ref_; }
   long pairs() const { return list_.pairs(); }
   const Kernel& kernel() const { return kernel_; }
   // Memory the solver holds in its memory space (the largest it has been), all arrays.
   std::size_t memory_bytes() const {
-    return view_bytes(p_.x, p_.v, p_.m, p_.kind, p_.id, pressure_, rhs_, rho_, invariance_, diag_,
+    return view_bytes(p_.x, p_.v, p_.m, p_.kind, p_.id, pressure_, rhs_, rho_, invariance_,
+                      truncation_, diag_,
                       role_, vstar_, kind_scratch_, id_scratch_) +
            cells_.bytes() + wet_cells_.bytes() + list_.bytes() + matrix_.bytes() + cg_.bytes();
   }
@@ -171,7 +178,8 @@ class IsphSolver {
     stages_.push_back({"neighbors", [this] { find_neighbors(); }});
     stages_.push_back({"density_and_roles", [this] {
                          density_and_roles<D>(list_.sweep(), kernel_, p_.x, p_.m, p_.kind, pressure_,
-                                              volume_, surface_test_, rho_, role_, invariance_, n_);
+                                              medium_, volume_, surface_test_, rho_, role_,
+                                              invariance_, truncation_, n_);
                        }});
     stages_.push_back({scene_.viscosity > 0 ? "predictor_viscous" : "predictor", [this] {
                          predictor<D>(list_.sweep(), kernel_, p_.x, p_.v, p_.kind, g_,
@@ -287,9 +295,7 @@ class IsphSolver {
     const auto ref = support_reference<D>(kernel_, scene_.spacing, rho0_);
     rho_ref_ = ref.rho;
     full_diagonal_ = ref.laplacian;
-    const bool by_density = scene_.surface_criterion == "density";
-    return {by_density, scene_.surface_density_threshold, scene_.surface_divergence_threshold,
-            scene_.invariance_support[0], scene_.invariance_support[1], ref.rho, ref.div_r, rho0_, g_};
+    return surface_test<D>(scene_, ref);
   }
 
   void count_kinds() {
@@ -301,6 +307,7 @@ class IsphSolver {
 
   Scene scene_;
   Kernel kernel_;
+  ClearWater medium_;
   Real volume_, rho0_, rho_ref_ = 0;
   SurfaceTest<D> surface_test_;
   Real full_diagonal_ = 0;
@@ -315,7 +322,7 @@ class IsphSolver {
 
   Particles<D, Space> p_;
   Kokkos::View<Real**, memory_space> pressure_, rhs_;
-  Kokkos::View<Real*, memory_space> rho_, invariance_, diag_;
+  Kokkos::View<Real*, memory_space> rho_, invariance_, truncation_, diag_;
   Kokkos::View<Role*, memory_space> role_;
   Kokkos::View<Real* [D], memory_space> vstar_;
   Kokkos::View<Kind*, memory_space> kind_scratch_;

@@ -1,24 +1,25 @@
 #pragma once
-// Summation density, the role of each particle in the pressure solve, and the weight
-// of the density-invariance term:
+// Summation density, the role of each particle in the pressure solve, and how much of
+// each fluid particle's support is cut off by a free surface:
 //  - fluid particles are unknowns; those on the free surface are marked `surface`.
 //    The surface test (a scene choice) is the position divergence
-//    div r = sum_j V (x_j - x_i).grad W_ij (Lee et al. 2008), which measures how much
+//    div r = sum_j V_j (x_j - x_i).grad W_ij (Lee et al. 2008), which measures how much
 //    of the support is empty, or the summation density;
-//  - the density-invariance term of a fluid particle is weighted by how full its
-//    support is: 1 where div r is at least `invariance_full` of its interior value,
-//    0 below `invariance_from`, linear in between (0 on the surface). Where part of
-//    the support is air, <rho> is low because of the air, not because the water
-//    expanded; read as an error, that deficit made the term compress the water under
-//    the surface, the more the larger gamma (docs/stability.md). div r tells the two
-//    apart where <rho> cannot (under uniform compression it rises with <rho>), and
-//    the ramp keeps particles whose div r scatters about a threshold from switching
-//    the term on and off;
+//  - truncation t_i = |sum_j V_j grad W_ij| / g_face, with g_face the same sum on the
+//    face of a flat half-space lattice: 0 in a full support, whatever the spacing (the
+//    sum is a gradient of a constant: uniform expansion, compression and a porous bed
+//    with V_j = m_j / (eps_j rho_f) leave it at 0), 1 on a flat face, 0.18 (2D) and
+//    0.16 (3D) one layer below it at h = 1.5 dx, 0 two layers below; it scatters on
+//    disordered particles (0.1 dx jitter: 0.09 median, 0.25 at most in 2D;
+//    figures from scripts/ppe_symbols.py). It decides where the
+//    density-invariance term and the ghost air apply (invariance_weight below) and
+//    which particles the density-error metric leaves out (src/metrics.hpp);
 //  - wall particles with no fluid neighbour play no part (excluded);
 //  - a wall particle to which the water pressure, continued hydrostatically from its
 //    fluid neighbours (Shepard average of P_j + rho0 g.(x_w - x_j), last step's P),
 //    would be negative lies beside the free surface: Dirichlet P = 0, so that it does
 //    not pull the water up the wall; the others are unknowns.
+#include "solvers/isph/medium.hpp"
 #include "src/types.hpp"
 
 namespace dvisph {
@@ -35,15 +36,17 @@ struct SurfaceTest {
   Real density_threshold, divergence_threshold;  // fractions of the interior values
   Real invariance_from, invariance_full;         // fractions of the interior div r
   Real rho_ref, div_r_ref;                       // interior values of <rho> and div r
+  Real face_gradient;                            // |sum_j V_j grad W_ij| on a flat face
   Real rho0;
   Vec<D> g;
 };
 
-template <int D, class Sweep, class Kernel, class X, class M, class KindV, class P, class Rho,
-          class RoleV, class Weight>
+template <int D, class Sweep, class Kernel, class X, class M, class KindV, class P, class Medium,
+          class Rho, class RoleV, class Weight, class Truncation>
 void density_and_roles(const Sweep& sweep, const Kernel& kernel, const X& x, const M& m,
-                       const KindV& kind, const P& p_last, Real volume, SurfaceTest<D> test,
-                       const Rho& rho, const RoleV& role, const Weight& invariance, int n) {
+                       const KindV& kind, const P& p_last, const Medium& medium, Real volume,
+                       SurfaceTest<D> test, const Rho& rho, const RoleV& role,
+                       const Weight& invariance, const Truncation& truncation, int n) {
   using Space = typename Sweep::execution_space;
   // tolerance on the continued pressure: round-off of symmetric sums
   Real gnorm = 0;
@@ -53,10 +56,12 @@ void density_and_roles(const Sweep& sweep, const Kernel& kernel, const X& x, con
       "dvisph::isph::density_and_roles", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
         const bool fluid = kind(i) == Kind::fluid;
         Real sum = 0, div_r = 0, w_fluid = 0, p_fluid = 0;
+        Vec<D> cut = Vec<D>::zero();
         sweep.for_each(i, row<D>(x, i), [&](int j, const Vec<D>& xij, Real r) {
-          const Real w = kernel.W(r);
+          const Real w = kernel.W(r), vj = volume * medium.volume_ratio(j);
           sum += m(j) * w;
-          div_r -= volume * kernel.dW_over_r(r) * r * r;
+          div_r -= vj * kernel.dW_over_r(r) * r * r;
+          cut += vj * kernel.grad(xij, r);
           if (!fluid && kind(j) == Kind::fluid) {
             w_fluid += w;
             p_fluid += w * (p_last(j, 0) + test.rho0 * dot(test.g, xij));
@@ -70,11 +75,13 @@ void density_and_roles(const Sweep& sweep, const Kernel& kernel, const X& x, con
           const Real full = (div_r / test.div_r_ref - test.invariance_from) /
                             (test.invariance_full - test.invariance_from);
           invariance(i) = surface ? 0 : math::min(1, math::max(0, full));
+          truncation(i) = math::sqrt(dot(cut, cut)) / test.face_gradient;
         } else {
           role(i) = w_fluid == 0                   ? Role::excluded
                     : p_fluid < -p_tol * w_fluid ? Role::dirichlet
                                                  : Role::wall;
           invariance(i) = 0;
+          truncation(i) = 0;
         }
       });
 }
