@@ -164,7 +164,7 @@ bench::Record run(long target_n, const Options& opt, double triad) {
   density_and_roles<D>(list.sweep(), kernel, x, m, kind, guess, ClearWater{}, volume, test, rho,
                        role, invariance, truncation, n);
   const Real dt = std::min(1e-3, 0.25 * std::sqrt(kernel.h / g_abs));  // IsphSolver's first dt
-  predictor<D>(list.sweep(), kernel, x, v, kind, g, 0.0, true, volume, dt, vstar, n);
+  predictor<D>(list.sweep(), kernel, x, v, kind, ClearWater{}, g, 0.0, true, volume, dt, vstar, n);
   const Real gamma[max_rhs] = {0.001, 0.01};
   using Ppe = PressurePoisson<D, typename NeighborList<D, Space>::Sweep, Kernel, decltype(x),
                               decltype(role)>;

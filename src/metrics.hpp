@@ -171,13 +171,11 @@ inline FrontData martin_moyce() {
   return d;
 }
 
-// RMS of (Z_sim(T - lag) - Z_data(T)) / Z_data(T) over data points with T in
-// [t_lo, t_hi], the simulated front interpolated linearly in T. Returns -1 if no
-// point is covered.
-inline double front_rms_deviation(const FrontData& sim, const FrontData& data, double t_lo,
-                                  double t_hi, int* points = nullptr, double lag = 0) {
-  double sum = 0;
-  int count = 0;
+// (Z_sim(T - lag) - Z_data(T)) / Z_data(T) at each data point with T in [t_lo, t_hi]
+// that the simulated front covers (interpolated linearly in T), in the data's order.
+inline std::vector<double> front_deviations(const FrontData& sim, const FrontData& data, double t_lo,
+                                            double t_hi, double lag = 0) {
+  std::vector<double> dev;
   for (std::size_t k = 0; k < data.T.size(); ++k) {
     if (data.T[k] < t_lo || data.T[k] > t_hi) continue;
     const double T = data.T[k] - lag;
@@ -185,13 +183,21 @@ inline double front_rms_deviation(const FrontData& sim, const FrontData& data, d
       if (sim.T[s - 1] <= T && T <= sim.T[s]) {
         const double w = (T - sim.T[s - 1]) / (sim.T[s] - sim.T[s - 1]);
         const double z = (1 - w) * sim.Z[s - 1] + w * sim.Z[s];
-        sum += (z - data.Z[k]) * (z - data.Z[k]) / (data.Z[k] * data.Z[k]);
-        ++count;
+        dev.push_back((z - data.Z[k]) / data.Z[k]);
         break;
       }
   }
-  if (points) *points = count;
-  return count ? std::sqrt(sum / count) : -1;
+  return dev;
+}
+
+// Their RMS; -1 if no point is covered.
+inline double front_rms_deviation(const FrontData& sim, const FrontData& data, double t_lo,
+                                  double t_hi, int* points = nullptr, double lag = 0) {
+  const auto dev = front_deviations(sim, data, t_lo, t_hi, lag);
+  double sum = 0;
+  for (const double d : dev) sum += d * d;
+  if (points) *points = static_cast<int>(dev.size());
+  return dev.empty() ? -1 : std::sqrt(sum / dev.size());
 }
 
 // The time lag (in T, within +-1) that minimises the deviation: how much of the

@@ -306,10 +306,11 @@ void check_consistency(const Scene& s) {
                                  "starting with '.' (it names the output directory)",
                                  s.name));
   check_box(s.tank, "geometry.tank");
-  if (!(s.invariance_support[0] < s.invariance_support[1]))
+  if (!(s.invariance_truncation[0] < s.invariance_truncation[1]))
     throw SceneError(fmt::format(
-        "numerics.invariance_support_from = {:g}: must be below numerics.invariance_support_full "
-        "= {:g}", s.invariance_support[0], s.invariance_support[1]));
+        "numerics.invariance_truncation_full = {:g}: must be below "
+        "numerics.invariance_truncation_none = {:g}",
+        s.invariance_truncation[0], s.invariance_truncation[1]));
   if (s.gate && !(s.gate->x > s.tank.lo[0] && s.gate->x < s.tank.hi[0]))
     throw SceneError(fmt::format("geometry.gate.x = {:g} m: must lie inside the tank ({:g}, {:g}) m",
                                  s.gate->x, s.tank.lo[0], s.tank.hi[0]));
@@ -441,8 +442,9 @@ Scene parse_scene(const std::string& yaml_text, const std::vector<std::string>& 
   s.cg_max_iterations = r.integer("numerics.cg_max_iterations");
   s.pressure_operator = r.text("numerics.pressure_operator");
   s.surface_criterion = r.text("numerics.surface_criterion");
-  s.invariance_support[0] = r.number("numerics.invariance_support_from");
-  s.invariance_support[1] = r.number("numerics.invariance_support_full");
+  s.invariance_truncation[0] = r.number("numerics.invariance_truncation_full");
+  s.invariance_truncation[1] = r.number("numerics.invariance_truncation_none");
+  s.ghost_air = r.text("numerics.ghost_air");
   s.surface_divergence_threshold = r.number("numerics.surface_divergence_threshold");
   s.surface_density_threshold = r.number("numerics.surface_density_threshold");
   s.reorder_every = r.integer("numerics.reorder_every");

@@ -57,7 +57,8 @@ struct Scene {
   std::string pressure_operator = "stored";
   std::string surface_criterion = "position_divergence";
   double surface_divergence_threshold = 0.75, surface_density_threshold = 0.95;
-  double invariance_support[2] = {0.9, 0.98};  // from, full
+  double invariance_truncation[2] = {0.15, 0.4};  // full, none
+  std::string ghost_air = "everywhere";
   int reorder_every = 25;
 
   double snapshot_every = 0;

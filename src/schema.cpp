@@ -177,12 +177,18 @@ Field make_schema() {
                   number("surface_density_threshold", "", "0.95", 0.5, 1.0,
                          "density: <rho> / interior value below which a particle is on the "
                          "free surface"),
-                  number("invariance_support_from", "", "0.9", 0.3, 1.0,
-                         "div r / interior value at and below which a fluid particle's support "
-                         "reaches so far into the air that it gets no density-invariance term"),
-                  number("invariance_support_full", "", "0.98", 0.3, 1.0,
-                         "div r / interior value from which the support counts as full and the "
-                         "density-invariance term applies whole (linear in between)"),
+                  number("invariance_truncation_full", "", "0.15", 0, 1.0,
+                         "truncation of a fluid particle's support (the length of sum_j V_j "
+                         "grad W_ij over its value on a flat free surface) up to which the "
+                         "support counts as full: the density-invariance term applies whole"),
+                  number("invariance_truncation_none", "", "0.4", 0, 1.0,
+                         "truncation from which the support reaches so far into the air that "
+                         "the density-invariance term is off (linear in between)"),
+                  choice("ghost_air", "everywhere", {"everywhere", "truncated"},
+                         "where the PPE adds the free surface's ghost air (P = 0 beyond the "
+                         "particles) for the part of a support that is empty: on every fluid "
+                         "row, or on truncated supports only, by (1 - invariance weight); "
+                         "truncated diverged on a jittered tank (docs/isph.md)"),
                   integer("reorder_every", "25", 0, 1e9,
                           "steps between reorderings of particles by cell (0: never)"),
               },

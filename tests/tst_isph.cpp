@@ -48,7 +48,7 @@ TEST_CASE("a scene runs only the stages it needs", "[isph]") {
 namespace {
 struct TankResult {
   HydrostaticErrors errors;
-  double worst_density_error = 0;
+  double worst_density_error = 0, final_density_error = 0;
   bool kept_all = false;
 };
 
@@ -64,12 +64,14 @@ TankResult run_tank(const std::vector<std::string>& overrides, int steps) {
                                                solver.density(), solver.pressure(), solver.truncation(),
                                                solver.reference_density(), solver.size());
     r.worst_density_error = std::max(r.worst_density_error, double(e.max));
+    r.final_density_error = e.max;
   }
   r.errors = hydrostatic_errors<2>(solver, s);
   r.kept_all = solver.count(Kind::fluid) == fluid;
   WARN("after " << steps << " steps: P error max " << r.errors.max_over_rho_g_H << " rms "
                 << r.errors.rms_over_rho_g_H << " of rho g H; max density error "
-                << r.worst_density_error << "; max speed " << solver.info().max_speed << " m/s");
+                << r.worst_density_error << " (at the end " << r.final_density_error
+                << "); max speed " << solver.info().max_speed << " m/s");
   return r;
 }
 }  // namespace
@@ -82,25 +84,32 @@ TEST_CASE("hydrostatic tank, 2D, 400 steps", "[isph]") {
   CHECK(r.worst_density_error < 0.01);
 }
 
-// Full density invariance (gamma = 1) must keep still water at its density: before the
-// term was weighted by how full the support is, it compressed the water under the free
-// surface and this tank reached 19-23 % after 1 000 steps (docs/stability.md).
-TEST_CASE("hydrostatic tank, 2D, gamma = 1, 400 steps", "[isph]") {
-  const auto r = run_tank({"numerics.gamma=1"}, 400);
-  CHECK(r.kept_all);
-  CHECK(r.worst_density_error < 0.01);
+// The density-invariance term must do what it is for: from a disordered start (0.1 dx
+// jitter) gamma = 1 brings the density error below half of what gamma = 0 leaves, and
+// keeps the pressure hydrostatic. (The test before ran a regular lattice, where gamma = 0
+// stays within the bound too: it passed with the term deleted.)
+TEST_CASE("hydrostatic tank, 2D, jittered: gamma = 1 halves the density error of gamma = 0", "[isph]") {
+  const auto r0 = run_tank({"numerics.gamma=0", "geometry.jitter=0.1"}, 400);
+  const auto r1 = run_tank({"numerics.gamma=1", "geometry.jitter=0.1"}, 400);
+  CHECK(r0.kept_all);
+  CHECK(r1.kept_all);
+  CHECK(r1.final_density_error < 0.5 * r0.final_density_error);
+  // regression bounds (measured 2026-12-01: max 0.033, rms 0.010 of rho g H; gamma = 0:
+  // 0.012, 0.004): the disordered start still moves the pressure at gamma = 1 after 400
+  // steps, beyond the 1 % of the regular tank
+  CHECK(r1.errors.max_over_rho_g_H < 0.04);
+  CHECK(r1.errors.rms_over_rho_g_H < 0.012);
 }
 
-// Coarse dam break (a/dx = 20) to T = 2.6. The bound is the deviation measured when
-// this test was written (0.123; 0.127 with the wall condition of pressure_poisson.hpp)
-// plus a little: it guards against regressions and does not meet the issue's 10 % (see
-// docs/validation.md for why the front leads the data).
-// Likewise for how far water gets into the walls (measured 0 dx; 0.017 dx before the
-// wall condition stopped water moving into the wall).
+// Coarse dam break (a/dx = 20) to T = 3.5, the front against every Martin & Moyce point
+// in T in [0.5, 3.5] (five) after the stated time-origin shift: 0.175 in T, the one the
+// Lethe examples apply (docs/validation.md). Limit: 10 % at every point (issue 3's
+// limit on the RMS; measured 2026-12-01: at most 3.5 %). Water in the walls: a
+// regression bound (measured 0 dx; 0.017 dx before the wall condition).
 TEST_CASE("dam break 2D, a/dx = 20, front against Martin & Moyce", "[isph]") {
   const Scene s = parse_scene(R"(
 dimension: 2
-end_time: 0.135
+end_time: 0.17
 geometry:
   spacing: 0.0025
   tank: {lo: [0, 0], hi: [0.3, 0.12]}
@@ -109,7 +118,7 @@ metrics: {kind: dam_break, column_width: 0.05}
 )");
   IsphSolver<2, WendlandC2<2>, TestSpace> solver(s);
   const auto walls = tank_walls<2>(s);
-  const double a = s.column_width, scale = std::sqrt(2 * 9.81 / a);
+  const double a = s.column_width, scale = std::sqrt(2 * 9.81 / a), shift = 0.175;
   FrontData sim;
   double penetration = 0;
   while (solver.info().t < s.end_time) {
@@ -119,13 +128,12 @@ metrics: {kind: dam_break, column_width: 0.05}
     sim.Z.push_back(front_position<TestSpace>(solver.particles().x, solver.particles().kind,
                                               solver.size()) / a);
   }
-  int points = 0;
-  const double rms = front_rms_deviation(sim, martin_moyce(), 1.0, 3.0, &points);
-  const double lag = best_front_lag(sim, martin_moyce(), 1.0, 3.0);
-  WARN("front RMS deviation " << rms << " over " << points << " points; best lag " << lag
-                              << " -> " << front_rms_deviation(sim, martin_moyce(), 1.0, 3.0, nullptr, lag));
-  CHECK(points == 3);
-  CHECK(rms < 0.13);
+  const auto dev = front_deviations(sim, martin_moyce(), 0.5, 3.5, shift);
+  REQUIRE(dev.size() == 5);
+  for (const double d : dev) {
+    WARN("front deviation after the shift: " << d);
+    CHECK(std::abs(d) < 0.10);
+  }
   WARN("deepest fluid particle past the tank faces: " << penetration / s.spacing << " dx");
   CHECK(penetration < 0.05 * s.spacing);
 }

@@ -2,6 +2,7 @@
 // the same pressure as Eigen's ConjugateGradient on the assembled sparse matrix, for two
 // right-hand sides at once, on disordered particles with walls and a free surface.
 #include "kernels/cubic_spline.hpp"
+#include "kernels/wendland_c2.hpp"
 #include "solvers/isph/free_surface.hpp"
 #include "solvers/isph/poisson_matrix.hpp"
 #include "src/neighbor_list.hpp"
@@ -118,7 +119,7 @@ geometry:
       d -= w;
       if (index[j] >= 0) triplets.emplace_back(index[i], index[j], w);
     }
-    // the ghost air of the free surface (not on walls)
+    // the ghost air of the free surface (not on walls; numerics.ghost_air: everywhere)
     const Real air = hrole(i) == Role::wall ? 0 : 2 * std::max(0.0, ref.laplacian - d);
     triplets.emplace_back(index[i], index[i], d + air);
   }
@@ -148,4 +149,165 @@ geometry:
     CHECK(rel < 1e-8);
     CHECK(rel_stored < 1e-8);
   }
+}
+
+// eq. 5's sources, checked against what they must be, not against assemble itself
+namespace {
+struct Assembled {
+  std::vector<std::array<Real, 2>> x;
+  std::vector<Kind> kind;
+  std::vector<Role> role;
+  std::vector<Real> b, weight, rho;
+  Real div_r_ref, rho_ref;
+};
+
+// A still-water tank (lattice, spacing stretched by `stretch` about the origin), v* =
+// velocity(x) for fluid particles and 0 for walls, gravity g: the PPE's right-hand side
+// for gamma.
+template <class Velocity>
+Assembled assemble_tank(Real stretch, Real gamma, Vec<2> g, Velocity velocity) {
+  constexpr int D = 2;
+  const Scene scene = parse_scene(R"(
+dimension: 2
+end_time: 1
+geometry:
+  spacing: 0.01
+  tank: {lo: [0, 0], hi: [0.3, 0.3]}
+  fluid: [{lo: [0, 0], hi: [0.3, 0.2]}]
+)");
+  auto init = scene_particles<D>(scene);
+  const int n = static_cast<int>(init.x.size());
+  const Real dx = scene.spacing, volume = dx * dx, rho0 = scene.density, dt = 1e-3;
+  const WendlandC2<D> kernel(scene.h_over_dx * dx);
+  Kokkos::View<Real* [D], Mem> x("x", n), vstar("vstar", n);
+  Kokkos::View<Kind*, Mem> kind("kind", n);
+  Kokkos::View<Real*, Mem> m("m", n), rho("rho", n), weight("weight", n), truncation("truncation", n),
+      diag("diag", n);
+  Kokkos::View<Role*, Mem> role("role", n);
+  Kokkos::View<Real**, Mem> b("b", n, 1), p("p", n, 1);
+  Assembled a;
+  {
+    auto hx = Kokkos::create_mirror_view(x);
+    auto hv = Kokkos::create_mirror_view(vstar);
+    auto hk = Kokkos::create_mirror_view(kind);
+    for (int i = 0; i < n; ++i) {
+      hk(i) = init.kind[i];
+      for (int k = 0; k < D; ++k) hx(i, k) = stretch * init.x[i][k];
+      const auto v = velocity(std::array<Real, 2>{hx(i, 0), hx(i, 1)});
+      for (int k = 0; k < D; ++k) hv(i, k) = hk(i) == Kind::fluid ? v[k] : 0;
+      a.x.push_back({hx(i, 0), hx(i, 1)});
+      a.kind.push_back(hk(i));
+    }
+    Kokkos::deep_copy(x, hx);
+    Kokkos::deep_copy(vstar, hv);
+    Kokkos::deep_copy(kind, hk);
+  }
+  Kokkos::deep_copy(m, rho0 * volume);
+  Vec<D> lo = init.domain_lo, hi = init.domain_hi;
+  for (int k = 0; k < D; ++k) lo[k] *= 1.2, hi[k] *= 1.2;
+  CellList<D, TestSpace> cells(Grid<D>(lo, hi, kernel.radius()));
+  cells.build(x, n);
+  NeighborList<D, TestSpace> list;
+  list.build(CellSweep<D, TestSpace>(cells, x, kernel.radius()), x, n);
+  const auto ref = support_reference<D>(kernel, dx, rho0);
+  density_and_roles<D>(list.sweep(), kernel, x, m, kind, p, ClearWater{}, volume,
+                       surface_test<D>(scene, ref), rho, role, weight, truncation, n);
+  auto walls = tank_walls<D>(scene);
+  for (int k = 0; k < D; ++k) walls.lo[k] *= stretch, walls.hi[k] *= stretch;
+  const PressurePoisson<D, NeighborList<D, TestSpace>::Sweep, WendlandC2<D>, decltype(x),
+                        decltype(role)>
+      ppe{list.sweep(), kernel, x, role, volume, ref.laplacian, walls};
+  const Real gam[max_rhs] = {gamma, gamma};
+  ppe.assemble(vstar, rho, weight, rho0, ref.rho, g, dt, gam, diag, b, n);
+  auto hb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b);
+  auto hr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), role);
+  auto hw = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), weight);
+  auto hrho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), rho);
+  for (int i = 0; i < n; ++i) {
+    a.b.push_back(hb(i, 0));
+    a.role.push_back(hr(i));
+    a.weight.push_back(hw(i));
+    a.rho.push_back(hrho(i));
+  }
+  a.div_r_ref = ref.div_r;
+  a.rho_ref = ref.rho;
+  return a;
+}
+
+// a fluid particle whose support lies in the water's interior (3 spacings from its
+// faces and from the walls)
+bool deep_inside(const std::array<Real, 2>& x, Real stretch) {
+  const Real dx = 0.01 * stretch, margin = 3.5 * dx;
+  return x[0] > margin && x[0] < 0.3 * stretch - margin && x[1] > margin && x[1] < 0.2 * stretch - margin;
+}
+}  // namespace
+
+TEST_CASE("assemble: a linear v* gives -(rho0/dt) tr grad v*", "[pressure_poisson]") {
+  // v* = A x with tr A = 0.3 - 0.1 and a shear; on a square lattice
+  // sum_j V (v_j - v_i).grad W_ij = tr A div_r_ref / D exactly (lattice symmetry)
+  const Real a11 = 0.3, a12 = 0.7, a21 = -0.2, a22 = -0.1, rho0 = 1000, dt = 1e-3;
+  const auto a = assemble_tank(1.0, 0.0, Vec<2>{{0, 0}}, [&](const std::array<Real, 2>& x) {
+    return std::array<Real, 2>{a11 * x[0] + a12 * x[1], a21 * x[0] + a22 * x[1]};
+  });
+  const Real expected = -(rho0 / dt) * (a11 + a22) * a.div_r_ref / 2;
+  CHECK(a.div_r_ref / 2 == Approx(1).epsilon(0.01));  // the lattice's div r of x is about D
+  int checked = 0;
+  for (std::size_t i = 0; i < a.b.size(); ++i) {
+    if (a.kind[i] != Kind::fluid || !deep_inside(a.x[i], 1.0)) continue;
+    ++checked;
+    CHECK(a.b[i] == Approx(expected).epsilon(1e-9));
+  }
+  CHECK(checked > 100);
+}
+
+TEST_CASE("assemble: uniform compression and expansion give exactly the gamma term", "[pressure_poisson]") {
+  // v* = 0: only gamma rho0 (1 - <rho>/rho_ref) / dt^2 is left, <rho> the lattice sum at the
+  // stretched spacing with the same masses, and the weight 1 in the interior either way
+  const Real rho0 = 1000, dt = 1e-3, gamma = 0.5, dx = 0.01;
+  for (const Real stretch : {0.97, 1.04}) {
+    const auto a = assemble_tank(stretch, gamma, Vec<2>{{0, 0}},
+                                 [](const std::array<Real, 2>&) { return std::array<Real, 2>{0, 0}; });
+    const WendlandC2<2> kernel(1.5 * dx);
+    const Real rho = support_reference<2>(kernel, stretch * dx, rho0 / (stretch * stretch)).rho;
+    const Real expected = -gamma * rho0 * (1 - rho / a.rho_ref) / (dt * dt);
+    int checked = 0;
+    for (std::size_t i = 0; i < a.b.size(); ++i) {
+      if (a.kind[i] != Kind::fluid || !deep_inside(a.x[i], stretch)) continue;
+      ++checked;
+      INFO("stretch " << stretch);
+      CHECK(a.weight[i] == 1);
+      CHECK(a.b[i] == Approx(expected).epsilon(1e-9));
+    }
+    CHECK(checked > 100);
+    CHECK((stretch < 1 ? expected > 0 : expected < 0));  // compression pushes apart
+  }
+}
+
+TEST_CASE("assemble: a wall row pushes only on water moving into it", "[pressure_poisson]") {
+  // water moving right into the right wall: that wall's rows change, the left wall's
+  // do not; moving left, the reverse. No gravity: the hydrostatic part is 0.
+  const auto still = assemble_tank(1.0, 0.0, Vec<2>{{0, 0}},
+                                   [](const std::array<Real, 2>&) { return std::array<Real, 2>{0, 0}; });
+  const auto right = assemble_tank(1.0, 0.0, Vec<2>{{0, 0}},
+                                   [](const std::array<Real, 2>&) { return std::array<Real, 2>{0.1, 0}; });
+  const auto left = assemble_tank(1.0, 0.0, Vec<2>{{0, 0}},
+                                  [](const std::array<Real, 2>&) { return std::array<Real, 2>{-0.1, 0}; });
+  int pushed_right = 0, pushed_left = 0, side_rows = 0;
+  for (std::size_t i = 0; i < still.b.size(); ++i) {
+    if (still.role[i] != Role::wall || still.x[i][1] < 0.05 || still.x[i][1] > 0.15) continue;
+    ++side_rows;
+    CHECK(still.b[i] == 0);
+    if (still.x[i][0] > 0.3) {  // right wall
+      pushed_right += right.b[i] != 0;
+      CHECK(right.b[i] >= 0);  // A P = b, A = -L positive definite: b > 0 raises the wall's P
+      CHECK(left.b[i] == 0);
+    } else if (still.x[i][0] < 0) {
+      pushed_left += left.b[i] != 0;
+      CHECK(left.b[i] >= 0);
+      CHECK(right.b[i] == 0);
+    }
+  }
+  CHECK(side_rows > 20);
+  CHECK(pushed_right > 10);
+  CHECK(pushed_left > 10);
 }

@@ -4,7 +4,7 @@
 // overlap, eta_n = 2 zeta sqrt(m* k_n) with zeta from e and m* the contact's reduced
 // mass (so beads of any size get the same e). Tangential: a spring on the tangential
 // displacement xi accumulated over the contact, a dashpot with the same damping ratio,
-// and the Coulomb limit |F_t| <= mu |F_n|.
+// and the Coulomb limit |F_t| <= mu max(F_n, 0).
 //
 // The contact acts exactly while d > 0 and F_n is not clamped to be non-attractive: the
 // dashpot pulls while the beads separate, and then the normal motion is the damped
@@ -135,7 +135,9 @@ struct LinearSpringDashpot {
     // the limit from storing energy in the spring.
     const Real in_contact =
         0.5 * (Overlaps::positive_fraction(d.lo, d.now) + Overlaps::positive_fraction(d.now, d.hi));
-    const Real limit = mu * math::abs(fn) / in_contact;
+    // Only compression presses the surfaces together: while the dashpot pulls (fn < 0)
+    // there is no friction to hold.
+    const Real limit = mu * math::max(fn, 0) / in_contact;
     const Real spring = k_t * math::sqrt(dot(xi, xi));
     Vec<D> ft;
     if (spring > limit) {

@@ -1,18 +1,19 @@
 #pragma once
-// Velocity correction v = v* - (dt/rho0) grad P with the symmetric gradient at the
-// reference density, grad P_i = V sum_j (P_i + P_j) grad W_ij (pair forces equal and
-// opposite). Column `physical` of P gives the velocity carried forward; column
-// `transport` the velocity that moves the particles (the same column when alpha =
-// beta; then vt may alias v).
+// Velocity correction v = v* - dt (eps/C_r) (1/rho_bar) grad P = v* - dt / (C_r rho_f)
+// grad P (method.md §4, rho_bar = eps rho_f) with the symmetric gradient
+// grad P_i = sum_j V_j (P_i + P_j) grad W_ij (pair forces V_i V_j (P_i + P_j) grad W_ij,
+// equal and opposite), V_j = s_j V_ref from the medium (medium.hpp). Column `physical`
+// of P gives the velocity carried forward; column `transport` the velocity that moves
+// the particles (the same column when alpha = beta; then vt may alias v).
 #include "solvers/isph/roles.hpp"
 
 namespace dvisph {
 
 template <int D, class Sweep, class Kernel, class X, class VStar, class P, class KindV, class RoleV,
-          class V>
+          class Medium, class V>
 void corrector(const Sweep& sweep, const Kernel& kernel, const X& x, const VStar& vstar, const P& p,
-               const KindV& kind, const RoleV& role, Real rho0, Real volume, Real dt, int physical,
-               int transport, const V& v, const V& vt, int n) {
+               const KindV& kind, const RoleV& role, const Medium& medium, Real rho0, Real volume,
+               Real dt, int physical, int transport, const V& v, const V& vt, int n) {
   using Space = typename Sweep::execution_space;
   Kokkos::parallel_for(
       "dvisph::isph::corrector", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
@@ -22,12 +23,13 @@ void corrector(const Sweep& sweep, const Kernel& kernel, const X& x, const VStar
         sweep.for_each(i, row<D>(x, i), [&](int j, const Vec<D>& xij, Real r) {
           if (!in_stencil(role(j))) return;
           const Vec<D> gw = kernel.grad(xij, r);
+          const Real sj = medium.volume_ratio(j);
           for (int k = 0; k < D; ++k) {
-            ga[k] += (pa + p(j, physical)) * gw[k];
-            gb[k] += (pb + p(j, transport)) * gw[k];
+            ga[k] += sj * (pa + p(j, physical)) * gw[k];
+            gb[k] += sj * (pb + p(j, transport)) * gw[k];
           }
         });
-        const Real s = dt * volume / rho0;
+        const Real s = dt * volume / rho0 * medium.inverse_virtual_mass(i);
         for (int k = 0; k < D; ++k) {
           vt(i, k) = vstar(i, k) - s * gb[k];
           v(i, k) = vstar(i, k) - s * ga[k];

@@ -52,7 +52,7 @@ SurfaceTest<D> surface_test(const Scene& s, const SupportReference<D>& ref) {
   Vec<D> g;
   for (int k = 0; k < D; ++k) g[k] = s.gravity[k];
   return {s.surface_criterion == "density", s.surface_density_threshold,
-          s.surface_divergence_threshold, s.invariance_support[0], s.invariance_support[1],
+          s.surface_divergence_threshold, s.invariance_truncation[0], s.invariance_truncation[1],
           ref.rho, ref.div_r, ref.face_gradient, s.density, g};
 }
 

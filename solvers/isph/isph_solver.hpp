@@ -182,13 +182,13 @@ class IsphSolver {
                                               invariance_, truncation_, n_);
                        }});
     stages_.push_back({scene_.viscosity > 0 ? "predictor_viscous" : "predictor", [this] {
-                         predictor<D>(list_.sweep(), kernel_, p_.x, p_.v, p_.kind, g_,
+                         predictor<D>(list_.sweep(), kernel_, p_.x, p_.v, p_.kind, medium_, g_,
                                       scene_.viscosity, scene_.no_slip, volume_, info_.dt, vstar_, n_);
                        }});
     stages_.push_back({"pressure_poisson", [this] { solve_pressure(); }});
     stages_.push_back({"corrector", [this] {
                          corrector<D>(list_.sweep(), kernel_, p_.x, vstar_, pressure_, p_.kind, role_,
-                                      rho0_, volume_, info_.dt, 0, nrhs_ - 1, p_.v, p_.v, n_);
+                                      medium_, rho0_, volume_, info_.dt, 0, nrhs_ - 1, p_.v, p_.v, n_);
                        }});
     stages_.push_back({"move", [this] { move(); }});
   }
@@ -202,7 +202,8 @@ class IsphSolver {
 
   void solve_pressure() {
     const PressurePoisson<D, Sweep, Kernel, decltype(p_.x), decltype(role_)> ppe{
-        list_.sweep(), kernel_, p_.x, role_, volume_, full_diagonal_, walls_};
+        list_.sweep(), kernel_, p_.x, role_, volume_, full_diagonal_, walls_, medium_,
+        scene_.ghost_air == "everywhere"};
     ppe.assemble(vstar_, rho_, invariance_, rho0_, rho_ref_, g_, info_.dt, gamma_, diag_, rhs_, n_);
     ppe.warm_start(pressure_, n_);
     CgResult result;

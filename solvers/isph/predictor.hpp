@@ -1,5 +1,7 @@
 #pragma once
-// Predictor v* = v + dt (g + nu lap v) for fluid particles. Wall particles get
+// Predictor v* = v + dt (eps/C_r) (g + nu lap v) for fluid particles (method.md §4;
+// eps and C_r and the volumes of the viscous sum from the medium, medium.hpp; the drag
+// F_r comes with the coupling). Wall particles get
 // v* = dt g: with the wall rows of the PPE (pressure_poisson.hpp) this is the
 // discrete form of the Neumann condition dP/dn = rho g.n, under which still water
 // is an exact steady state.
@@ -8,15 +10,17 @@
 namespace dvisph {
 
 // nu = 0: no neighbour loop at all. `no_slip`: walls enter the viscous sum with v = 0.
-template <int D, class Sweep, class Kernel, class X, class V, class KindV, class VStar>
+template <int D, class Sweep, class Kernel, class X, class V, class KindV, class Medium, class VStar>
 void predictor(const Sweep& sweep, const Kernel& kernel, const X& x, const V& v, const KindV& kind,
-               Vec<D> g, Real nu, bool no_slip, Real volume, Real dt, const VStar& vstar, int n) {
+               const Medium& medium, Vec<D> g, Real nu, bool no_slip, Real volume, Real dt,
+               const VStar& vstar, int n) {
   using Space = typename Sweep::execution_space;
   if (nu == 0) {
     Kokkos::parallel_for(
         "dvisph::isph::predictor", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
           const bool fluid = kind(i) == Kind::fluid;
-          for (int k = 0; k < D; ++k) vstar(i, k) = (fluid ? v(i, k) : 0) + dt * g[k];
+          const Real f = fluid ? medium.porosity(i) * medium.inverse_virtual_mass(i) : 1;
+          for (int k = 0; k < D; ++k) vstar(i, k) = (fluid ? v(i, k) : 0) + dt * (f * g[k]);
         });
     return;
   }
@@ -31,10 +35,11 @@ void predictor(const Sweep& sweep, const Kernel& kernel, const X& x, const V& v,
         sweep.for_each(i, row<D>(x, i), [&](int j, const Vec<D>&, Real r) {
           const bool wall = kind(j) != Kind::fluid;
           if (wall && !no_slip) return;
-          const Real w = laplacian_weight<D>(kernel, r, volume);
+          const Real w = laplacian_weight<D>(kernel, r, volume * medium.volume_ratio(j));
           for (int k = 0; k < D; ++k) lap[k] += w * (vi[k] - (wall ? 0 : v(j, k)));
         });
-        for (int k = 0; k < D; ++k) vstar(i, k) = vi[k] + dt * (g[k] + nu * lap[k]);
+        const Real f = medium.porosity(i) * medium.inverse_virtual_mass(i);
+        for (int k = 0; k < D; ++k) vstar(i, k) = vi[k] + dt * (f * (g[k] + nu * lap[k]));
       });
 }
 

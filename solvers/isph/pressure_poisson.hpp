@@ -1,17 +1,27 @@
 #pragma once
-// The pressure Poisson equation (method.md eq. 5 with eps = 1, C_r = 1) as a
-// symmetric positive definite system A P = b over the unknown particles, A = -L
-// with L the Morris Laplacian (kernels/laplacian.hpp) on the stencil of fluid and
-// active wall particles; Dirichlet particles (P = 0) add only to the diagonal.
-//   fluid rows: b = -(rho0/dt) <div v*> - w gamma rho0 (1 - <rho>/rho_ref) / dt^2,
-//               w the particle's invariance weight (1 where its support is full, 0
-//               where it reaches into the air, and on the surface; roles.hpp).
+// The pressure Poisson equation (method.md eq. 5) as a symmetric positive definite
+// system A P = b over the unknown particles. Eq. 5 divided by C_r rho_bar / eps
+// (rho_bar = eps rho_f) reads (1/C_r) lap P = rho_f div v* / dt + gamma eps rho_f
+// (1 - <rho>/rho_bar_ref) / dt^2; the Morris Laplacian (kernels/laplacian.hpp) with
+// per-particle volumes V_j and the pair coefficient k_ij of the medium (medium.hpp),
+// row i scaled by V_i / V_ref, gives A_ij = -s_i s_j k_ij L_ij (s = V / V_ref, L_ij
+// the Laplacian weight at V_ref): symmetric. Clear water: s = k = 1, A = -L. The
+// stencil holds fluid and active wall particles; Dirichlet particles (P = 0) add only
+// to the diagonal.
+//   fluid rows: b = -s_i rho_f (<div v*>/dt + w gamma eps_i (1 - <rho>/(eps_i rho_ref))
+//               / dt^2), w the particle's invariance weight (1 where its support is
+//               full, 0 where it reaches into the air, and on the surface; roles.hpp).
 //               Free surface, ghost-fluid style (Gibou et al. 2002): the part of a
 //               fluid particle's support that is empty is air at P = 0 half a spacing
 //               beyond the particles, i.e. twice the missing diagonal weight, so the
 //               surface layer gets the pressure of its depth and the symmetric
-//               gradient holds it up. No fluid particle is Dirichlet and no role flip
-//               changes the matrix abruptly.
+//               gradient holds it up. It is added on every fluid row, so disordered
+//               interior particles whose diagonal falls short get some too, which pulls
+//               their pressure toward 0 a little; weighted by 1 - w instead
+//               (`numerics.ghost_air: truncated`, air only where the support is cut)
+//               a jittered tank diverged within 15 steps: the interior share also
+//               stabilizes (docs/isph.md). No fluid particle is Dirichlet and no role
+//               flip changes the matrix abruptly.
 //   wall rows:  the wall pressure continues the fluid's, a Neumann condition: the
 //               hydrostatic gradient, b = -L(P_h), P_h = rho0 g.x, plus, where the
 //               water moves into the wall, the step dP/dn = rho0 vn / dt that brings
@@ -30,16 +40,24 @@
 
 namespace dvisph {
 
-template <int D, class Sweep, class Kernel, class X, class RoleV>
+template <int D, class Sweep, class Kernel, class X, class RoleV, class Medium = ClearWater>
 struct PressurePoisson {
   using Space = typename Sweep::execution_space;
   Sweep sweep;
   Kernel kernel;
   X x;
   RoleV role;
-  Real volume;         // of every particle
+  Real volume;         // V_ref, the volume of a lattice particle
   Real full_diagonal;  // sum of |Laplacian weights| over a full lattice support
   TankWalls<D> walls;
+  Medium medium = {};
+  bool air_everywhere = true;  // numerics.ghost_air
+
+  // A_ij of a pair of unknowns or stencil particles at distance r (negative)
+  KOKKOS_INLINE_FUNCTION Real coefficient(int i, int j, Real r) const {
+    return medium.volume_ratio(i) * medium.volume_ratio(j) * medium.pair_coefficient(i, j) *
+           laplacian_weight<D>(kernel, r, volume);
+  }
 
   // diag(i) and b(i, k) for gamma[k], k < b.extent(1); zero on rows that are not unknowns.
   // invariance(i): the weight of the density-invariance term (density_and_roles).
@@ -67,10 +85,10 @@ struct PressurePoisson {
           self.sweep.for_each(i, row<D>(self.x, i), [&](int j, const Vec<D>& xij, Real r) {
             const Role rj = self.role(j);
             if (!in_stencil(rj)) return;
-            const Real w = laplacian_weight<D>(self.kernel, r, self.volume);
+            const Real w = self.coefficient(i, j, r);
             const Vec<D> vj = row<D>(vstar, j);
             d -= w;
-            div += self.volume * dot(vj - vi, self.kernel.grad(xij, r));
+            div += self.volume * self.medium.volume_ratio(j) * dot(vj - vi, self.kernel.grad(xij, r));
             wall_source += w * dot(g, xij);
             if (wall && water(rj)) {
               const Real W = self.kernel.W(r);
@@ -82,12 +100,14 @@ struct PressurePoisson {
           // the water's mean normal velocity at the wall (beyond gravity's), where it
           // moves into the wall: dP/dn = rho0 vn / dt brings it to rest
           if (shepard > 0) wall_source += math::min(0, approach / shepard) / dt * lever;
-          const Real air = wall ? 0 : 2 * math::max(0, self.full_diagonal - d);
+          const Real si = self.medium.volume_ratio(i), eps = self.medium.porosity(i);
+          const Real air_share = wall ? 0 : self.air_everywhere ? 1 : 1 - invariance(i);
+          const Real air = air_share * 2 * math::max(0, si * self.full_diagonal - d);
           diag(i) = d + air;
           for (int k = 0; k < K; ++k) {
             if (wall) b(i, k) = -rho0 * wall_source;
-            else b(i, k) = -rho0 / dt * div -
-                           invariance(i) * gam[k] * rho0 * (1 - rho(i) / rho_ref) / (dt * dt);
+            else b(i, k) = si * (-rho0 / dt * div - invariance(i) * gam[k] * eps * rho0 *
+                                                        (1 - rho(i) / (eps * rho_ref)) / (dt * dt));
           }
         });
   }
@@ -98,7 +118,7 @@ struct PressurePoisson {
   KOKKOS_INLINE_FUNCTION void for_each_coefficient(int i, F&& f) const {
     if (!unknown(role(i))) return;
     sweep.for_each(i, row<D>(x, i), [&](int j, const Vec<D>&, Real r) {
-      if (unknown(role(j)) && j != i) f(j, laplacian_weight<D>(kernel, r, volume));
+      if (unknown(role(j)) && j != i) f(j, coefficient(i, j, r));
     });
   }
 

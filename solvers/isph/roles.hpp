@@ -34,7 +34,7 @@ template <int D>
 struct SurfaceTest {
   bool by_density;  // else by position divergence
   Real density_threshold, divergence_threshold;  // fractions of the interior values
-  Real invariance_from, invariance_full;         // fractions of the interior div r
+  Real invariance_full, invariance_none;         // truncations: weight 1 up to, 0 from
   Real rho_ref, div_r_ref;                       // interior values of <rho> and div r
   Real face_gradient;                            // |sum_j V_j grad W_ij| on a flat face
   Real rho0;
@@ -72,10 +72,10 @@ void density_and_roles(const Sweep& sweep, const Kernel& kernel, const X& x, con
           const bool surface = test.by_density ? sum < test.density_threshold * test.rho_ref
                                                : div_r < test.divergence_threshold * test.div_r_ref;
           role(i) = surface ? Role::surface : Role::fluid;
-          const Real full = (div_r / test.div_r_ref - test.invariance_from) /
-                            (test.invariance_full - test.invariance_from);
+          const Real t = math::sqrt(dot(cut, cut)) / test.face_gradient;
+          const Real full = (test.invariance_none - t) / (test.invariance_none - test.invariance_full);
           invariance(i) = surface ? 0 : math::min(1, math::max(0, full));
-          truncation(i) = math::sqrt(dot(cut, cut)) / test.face_gradient;
+          truncation(i) = t;
         } else {
           role(i) = w_fluid == 0                   ? Role::excluded
                     : p_fluid < -p_tol * w_fluid ? Role::dirichlet

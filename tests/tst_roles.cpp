@@ -1,0 +1,132 @@
+// What density_and_roles reads from a support: uniform expansion and compression leave
+// a support full, a free surface cuts it. A lattice block of fluid particles (spacing
+// stretched by s, the particle volume that of the unstretched lattice), in 2D and 3D.
+#include "kernels/wendland_c2.hpp"
+#include "solvers/isph/free_surface.hpp"
+#include "src/neighbor_list.hpp"
+#include "tests/test_space.hpp"
+
+#include <catch2/catch.hpp>
+
+using namespace dvisph;
+using Mem = TestSpace::memory_space;
+
+namespace {
+constexpr int layers = 12;  // per axis
+
+template <int D>
+struct Block {
+  std::vector<std::array<int, D>> cell;  // lattice index of each particle
+  Kokkos::View<Real*, Kokkos::HostSpace> truncation, weight;
+  Kokkos::View<Role*, Kokkos::HostSpace> role;
+  // lowest number of layers between a particle and the block's faces (the top face
+  // only: the half-space cut)
+  int depth(int i, bool top_only) const {
+    int d = layers - 1 - cell[i][D - 1];
+    if (!top_only)
+      for (int k = 0; k < D; ++k) d = std::min({d, cell[i][k], layers - 1 - cell[i][k]});
+    return d;
+  }
+  // inside the block at least 3 layers away from its sides (the top face aside)
+  bool away_from_sides(int i) const {
+    for (int k = 0; k < D - 1; ++k)
+      if (cell[i][k] < 3 || cell[i][k] > layers - 4) return false;
+    return cell[i][D - 1] >= 3;
+  }
+};
+
+template <int D>
+Block<D> block(Real stretch) {
+  // the scene's defaults: kernel, h / dx, density, free-surface and weight choices
+  const Scene scene = parse_scene(D == 2 ? "dimension: 2\nend_time: 1\ngeometry: {spacing: 0.01, "
+                                           "tank: {lo: [0, 0], hi: [1, 1]}, "
+                                           "fluid: [{lo: [0, 0], hi: [0.1, 0.1]}]}\n"
+                                         : "dimension: 3\nend_time: 1\ngeometry: {spacing: 0.01, "
+                                           "tank: {lo: [0, 0, 0], hi: [1, 1, 1]}, "
+                                           "fluid: [{lo: [0, 0, 0], hi: [0.1, 0.1, 0.1]}]}\n");
+  const Real dx = scene.spacing, volume = std::pow(dx, D);
+  const WendlandC2<D> kernel(scene.h_over_dx * dx);
+  Block<D> b;
+  int total = 1;
+  for (int k = 0; k < D; ++k) total *= layers;
+  for (int c = 0; c < total; ++c) {
+    std::array<int, D> idx;
+    for (int k = 0, rest = c; k < D; ++k, rest /= layers) idx[k] = rest % layers;
+    b.cell.push_back(idx);
+  }
+  const int n = total;
+  Kokkos::View<Real* [D], Mem> x("x", n);
+  auto hx = Kokkos::create_mirror_view(x);
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < D; ++k) hx(i, k) = (0.1 + b.cell[i][k] * stretch) * dx;
+  Kokkos::deep_copy(x, hx);
+  Kokkos::View<Kind*, Mem> kind("kind", n);
+  Kokkos::deep_copy(kind, Kind::fluid);
+  Kokkos::View<Real*, Mem> m("m", n), rho("rho", n), weight("weight", n), truncation("truncation", n);
+  Kokkos::deep_copy(m, scene.density * volume);
+  Kokkos::View<Real**, Mem> p("p", n, 1);
+  Kokkos::View<Role*, Mem> role("role", n);
+  Vec<D> lo = Vec<D>::zero(), hi;
+  for (int k = 0; k < D; ++k) hi[k] = (0.2 + layers * stretch) * dx;
+  CellList<D, TestSpace> cells(Grid<D>(lo, hi, kernel.radius()));
+  cells.build(x, n);
+  NeighborList<D, TestSpace> list;
+  list.build(CellSweep<D, TestSpace>(cells, x, kernel.radius()), x, n);
+  const auto ref = support_reference<D>(kernel, dx, scene.density);
+  density_and_roles<D>(list.sweep(), kernel, x, m, kind, p, ClearWater{}, volume,
+                       surface_test<D>(scene, ref), rho, role, weight, truncation, n);
+  b.truncation = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), truncation);
+  b.weight = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), weight);
+  b.role = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), role);
+  return b;
+}
+
+template <int D>
+void full_support_stays_full() {
+  for (const Real stretch : {0.95, 1.0, 1.05}) {
+    const auto b = block<D>(stretch);
+    int interior = 0;
+    for (std::size_t i = 0; i < b.cell.size(); ++i) {
+      if (b.depth(static_cast<int>(i), false) < 3) continue;
+      ++interior;
+      INFO("stretch " << stretch << ", particle " << i);
+      CHECK(b.role(i) == Role::fluid);
+      CHECK(b.truncation(i) < 1e-9);
+      CHECK(b.weight(i) == 1);
+    }
+    CHECK(interior > 0);
+  }
+}
+
+template <int D>
+void face_is_cut() {
+  for (const Real stretch : {0.95, 1.0, 1.05}) {
+    const auto b = block<D>(stretch);
+    int face = 0;
+    for (std::size_t i = 0; i < b.cell.size(); ++i) {
+      const int at = static_cast<int>(i);
+      if (!b.away_from_sides(at)) continue;
+      INFO("stretch " << stretch << ", particle " << i << " at depth " << b.depth(at, true));
+      if (b.depth(at, true) == 0) {
+        ++face;
+        // the particle volume over the stretched lattice's: the face sum scales with it
+        CHECK(b.truncation(i) == Approx(std::pow(stretch, -D)).epsilon(0.05));
+        CHECK(b.weight(i) == 0);
+      } else if (b.depth(at, true) >= 2) {  // compressed, the support reaches a little past 3 layers
+        CHECK(b.truncation(i) < 1e-3);
+        CHECK(b.weight(i) == 1);
+      }
+    }
+    CHECK(face > 0);
+  }
+}
+}  // namespace
+
+TEST_CASE("expanded and compressed water keeps a full support, 2D", "[roles]") {
+  full_support_stays_full<2>();
+}
+TEST_CASE("expanded and compressed water keeps a full support, 3D", "[roles]") {
+  full_support_stays_full<3>();
+}
+TEST_CASE("a flat free surface cuts the support of its face, 2D", "[roles]") { face_is_cut<2>(); }
+TEST_CASE("a flat free surface cuts the support of its face, 3D", "[roles]") { face_is_cut<3>(); }
