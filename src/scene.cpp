@@ -436,6 +436,8 @@ Scene parse_scene(const std::string& yaml_text, const std::vector<std::string>& 
   s.kernel = r.text("numerics.kernel");
   s.h_over_dx = r.number("numerics.h_over_dx");
   s.gamma = r.number("numerics.gamma");
+  s.alpha = r.at("numerics.alpha").IsNull() ? s.gamma : r.number("numerics.alpha");
+  s.beta = r.at("numerics.beta").IsNull() ? s.gamma : r.number("numerics.beta");
   s.cfl = r.number("numerics.cfl");
   s.dt_max = r.number("numerics.dt_max");
   s.cg_tolerance = r.number("numerics.cg_tolerance");

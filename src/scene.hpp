@@ -53,6 +53,7 @@ struct Scene {
 
   std::string kernel;
   double h_over_dx = 1.5, gamma = 0.1, cfl = 0.25, dt_max = 1e-3, cg_tolerance = 1e-8;
+  double alpha = 0.1, beta = 0.1;  // numerics.alpha / beta, each numerics.gamma unless given
   int cg_max_iterations = 2000;
   std::string pressure_operator = "stored";
   std::string surface_criterion = "position_divergence";

@@ -157,7 +157,15 @@ Field make_schema() {
                          "from rearranging)"),
                   number("h_over_dx", "", "1.5", 1.0, 2.5, "smoothing length over spacing"),
                   number("gamma", "", "0.1", 0, 1,
-                         "density-invariance (stabilization) parameter of the PPE"),
+                         "density-invariance (stabilization) parameter of the PPE: alpha = "
+                         "beta = gamma, one pressure solve (the conventional method)"),
+                  optional(number("alpha", "", "", 0, 1,
+                                  "stabilization parameter of the PPE whose pressure gives the "
+                                  "physical velocity (method.md §1; default numerics.gamma)")),
+                  optional(number("beta", "", "", 0, 1,
+                                  "stabilization parameter of the PPE whose pressure gives the "
+                                  "transport velocity, which only moves the particles (default "
+                                  "numerics.gamma); beta != alpha solves the PPE for both")),
                   number("cfl", "", "0.25", 0, 1, "Courant number on h / max|v|", true),
                   number("dt_max", "s", "1.0e-3", 0, inf, "largest time step", true),
                   number("cg_tolerance", "", "1.0e-8", 1e-14, 1e-1,

@@ -311,3 +311,25 @@ TEST_CASE("assemble: a wall row pushes only on water moving into it", "[pressure
   CHECK(pushed_right > 10);
   CHECK(pushed_left > 10);
 }
+
+TEST_CASE("wall normals: the tank's faces, its corners and the gate", "[pressure_poisson]") {
+  const Scene s = parse_scene(R"(
+dimension: 2
+end_time: 1
+geometry:
+  spacing: 0.01
+  tank: {lo: [0, 0], hi: [0.4, 0.3]}
+  fluid: [{lo: [0, 0], hi: [0.1, 0.2]}]
+  gate: {x: 0.1, remove_at: 0.5}
+)");
+  auto walls = tank_walls<2>(s);
+  const auto n = [&](Real x, Real y) { return walls.inward_normal(Vec<2>{{x, y}}); };
+  CHECK(n(-0.005, 0.1)[0] == 1);     // left wall
+  CHECK(n(0.2, -0.005)[1] == 1);     // floor
+  CHECK(n(-0.005, -0.005)[0] == Approx(std::sqrt(0.5)));  // corner: the diagonal
+  CHECK(n(0.105, 0.1)[0] == -1);     // the gate, toward the water behind it
+  CHECK(n(0.105, 0.1)[1] == 0);
+  CHECK(n(0.05, 0.1)[0] == 0);       // inside the tank, upstream of the gate: none
+  walls.gate = false;                // removed
+  CHECK(n(0.105, 0.1)[0] == 0);
+}

@@ -37,56 +37,63 @@ void corrector(const Sweep& sweep, const Kernel& kernel, const X& x, const VStar
       });
 }
 
-// What the move found: the fastest particle, and the first particle (by index) that
-// left the domain or got a non-finite value (-1: none).
+// What the move found: the fastest particle by its physical velocity (the CFL limit),
+// the largest |v_transport - v|, and the first particle (by index) that left the domain
+// or got a non-finite value (-1: none).
 struct MoveReport {
   Real max_speed = 0;
+  Real max_transport_difference = 0;
   int bad = -1;
 };
 
-// x += dt vt for fluid particles; reports the largest speed and any particle that
-// is not finite or outside [lo, hi]. (A functor with its own join: Kokkos 3.x has
-// no multiple-reducer parallel_reduce.)
+// x += dt vt for fluid particles, v the physical velocity (vt may be v); reports the
+// largest speed, the largest |vt - v| and any particle that is not finite or outside
+// [lo, hi]. (A functor with its own join: Kokkos 3.x has no multiple-reducer
+// parallel_reduce.)
 template <int D, class Space, class X, class V, class KindV>
 struct MoveParticles {
   struct value_type {
-    Real max_speed2;
+    Real max_speed2, max_difference2;
     int first_bad;
   };
   X x;
-  V vt;
+  V v, vt;
   KindV kind;
   Real dt;
   Vec<D> lo, hi;
   int n;
 
-  KOKKOS_INLINE_FUNCTION void init(value_type& r) const { r = {0, n}; }
+  KOKKOS_INLINE_FUNCTION void init(value_type& r) const { r = {0, 0, n}; }
   KOKKOS_INLINE_FUNCTION void join(value_type& a, const value_type& b) const {
     if (b.max_speed2 > a.max_speed2) a.max_speed2 = b.max_speed2;
+    if (b.max_difference2 > a.max_difference2) a.max_difference2 = b.max_difference2;
     if (b.first_bad < a.first_bad) a.first_bad = b.first_bad;
   }
   KOKKOS_INLINE_FUNCTION void join(volatile value_type& a, const volatile value_type& b) const {
     if (b.max_speed2 > a.max_speed2) a.max_speed2 = b.max_speed2;
+    if (b.max_difference2 > a.max_difference2) a.max_difference2 = b.max_difference2;
     if (b.first_bad < a.first_bad) a.first_bad = b.first_bad;
   }
   KOKKOS_INLINE_FUNCTION void operator()(int i, value_type& r) const {
     if (kind(i) != Kind::fluid) return;
-    Real v2 = 0;
+    Real v2 = 0, d2 = 0;
     bool ok = true;
     for (int k = 0; k < D; ++k) {
       x(i, k) += dt * vt(i, k);
-      v2 += vt(i, k) * vt(i, k);
+      v2 += v(i, k) * v(i, k);
+      d2 += (vt(i, k) - v(i, k)) * (vt(i, k) - v(i, k));
       ok = ok && math::isfinite(x(i, k)) && x(i, k) >= lo[k] && x(i, k) <= hi[k];
     }
-    ok = ok && math::isfinite(v2);
+    ok = ok && math::isfinite(v2) && math::isfinite(d2);
     if (v2 > r.max_speed2) r.max_speed2 = v2;
+    if (d2 > r.max_difference2) r.max_difference2 = d2;
     if (!ok && i < r.first_bad) r.first_bad = i;
   }
 
   MoveReport run() const {
     value_type r;
     Kokkos::parallel_reduce("dvisph::isph::move", Kokkos::RangePolicy<Space>(0, n), *this, r);
-    return {std::sqrt(r.max_speed2), r.first_bad < n ? r.first_bad : -1};
+    return {std::sqrt(r.max_speed2), std::sqrt(r.max_difference2), r.first_bad < n ? r.first_bad : -1};
   }
 };
 

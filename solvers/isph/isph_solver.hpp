@@ -33,7 +33,8 @@ struct StepInfo {
   double t = 0, dt = 0;
   int cg_iterations = 0;
   double cg_residual = 0;
-  double max_speed = 0;
+  double max_speed = 0;        // of the physical velocity: the CFL limit
+  double transport_shift = 0;  // dt max|v_transport - v| [m] (0 when alpha = beta)
 };
 
 template <int D, class Kernel, class Space = Kokkos::DefaultExecutionSpace>
@@ -59,8 +60,11 @@ class IsphSolver {
     domain_hi_ = init.domain_hi;
     for (int k = 0; k < D; ++k) g_[k] = s.gravity[k];
     walls_ = tank_walls<D>(s);
-    gamma_[0] = gamma_[1] = s.gamma;
-    nrhs_ = 1;  // alpha = beta: one solve
+    // pressure columns: 0 for alpha (the physical velocity), 1 for beta (the transport
+    // velocity) where they differ; alpha = beta: one solve, and v moves the particles
+    gamma_[0] = s.alpha;
+    gamma_[1] = s.beta;
+    nrhs_ = s.alpha == s.beta ? 1 : 2;
 
     p_ = Particles<D, Space>(n_, "sph");
     copy_points<D>(init.x, p_.x);
@@ -76,6 +80,7 @@ class IsphSolver {
     invariance_ = Kokkos::View<Real*, memory_space>("dvisph::sph::invariance", n_);
     truncation_ = Kokkos::View<Real*, memory_space>("dvisph::sph::truncation", n_);
     vstar_ = Kokkos::View<Real* [D], memory_space>("dvisph::sph::vstar", n_);
+    if (nrhs_ == 2) vt_ = Kokkos::View<Real* [D], memory_space>("dvisph::sph::transport_velocity", n_);
     diag_ = Kokkos::View<Real*, memory_space>("dvisph::sph::diag", n_);
     rhs_ = Kokkos::View<Real**, memory_space>("dvisph::sph::rhs", n_, nrhs_);
     kind_scratch_ = Kokkos::View<Kind*, memory_space>("dvisph::sph::kind_scratch", n_);
@@ -123,8 +128,7 @@ class IsphSolver {
   // Memory the solver holds in its memory space (the largest it has been), all arrays.
   std::size_t memory_bytes() const {
     return view_bytes(p_.x, p_.v, p_.m, p_.kind, p_.id, pressure_, rhs_, rho_, invariance_,
-                      truncation_, diag_,
-                      role_, vstar_, kind_scratch_, id_scratch_) +
+                      truncation_, diag_, role_, vstar_, vt_, kind_scratch_, id_scratch_) +
            cells_.bytes() + wet_cells_.bytes() + list_.bytes() + matrix_.bytes() + cg_.bytes();
   }
   const Scene& scene() const { return scene_; }
@@ -151,6 +155,7 @@ class IsphSolver {
     info_.dt = c.number("sph/dt");
     info_.max_speed = c.number("sph/max_speed");
     gate_removed_ = c.number("sph/gate_removed") != 0;
+    walls_.gate = scene_.gate && !gate_removed_;
     count_kinds();
   }
 
@@ -188,7 +193,8 @@ class IsphSolver {
     stages_.push_back({"pressure_poisson", [this] { solve_pressure(); }});
     stages_.push_back({"corrector", [this] {
                          corrector<D>(list_.sweep(), kernel_, p_.x, vstar_, pressure_, p_.kind, role_,
-                                      medium_, rho0_, volume_, info_.dt, 0, nrhs_ - 1, p_.v, p_.v, n_);
+                                      medium_, rho0_, volume_, info_.dt, 0, nrhs_ - 1, p_.v,
+                                      transport_velocity(), n_);
                        }});
     stages_.push_back({"move", [this] { move(); }});
   }
@@ -226,9 +232,10 @@ class IsphSolver {
 
   void move() {
     const MoveParticles<D, Space, decltype(p_.x), decltype(p_.v), decltype(p_.kind)> mover{
-        p_.x, p_.v, p_.kind, info_.dt, domain_lo_, domain_hi_, n_};
+        p_.x, p_.v, transport_velocity(), p_.kind, info_.dt, domain_lo_, domain_hi_, n_};
     const auto report = mover.run();
     info_.max_speed = report.max_speed;
+    info_.transport_shift = info_.dt * report.max_transport_difference;
     if (report.bad >= 0) {
       auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(),
                                                    Kokkos::subview(p_.x, report.bad, Kokkos::ALL));
@@ -274,6 +281,9 @@ class IsphSolver {
     n_ = p_.n = n_new;
   }
 
+  // the velocity that moves the particles: its own array only where alpha != beta
+  Kokkos::View<Real* [D], memory_space> transport_velocity() const { return nrhs_ == 2 ? vt_ : p_.v; }
+
   void reorder_when_due() {
     if (info_.step % scene_.reorder_every != 0) return;
     cells_.build(p_.x, n_);
@@ -287,6 +297,7 @@ class IsphSolver {
     const int kept = rows_not_of_kind<Space>(p_.kind, Kind::gate, n_, keep);
     permute(keep, kept);
     gate_removed_ = true;
+    walls_.gate = false;
     count_kinds();
   }
 
@@ -325,7 +336,7 @@ class IsphSolver {
   Kokkos::View<Real**, memory_space> pressure_, rhs_;
   Kokkos::View<Real*, memory_space> rho_, invariance_, truncation_, diag_;
   Kokkos::View<Role*, memory_space> role_;
-  Kokkos::View<Real* [D], memory_space> vstar_;
+  Kokkos::View<Real* [D], memory_space> vstar_, vt_;
   Kokkos::View<Kind*, memory_space> kind_scratch_;
   Kokkos::View<int*, memory_space> id_scratch_;
 
