@@ -95,12 +95,8 @@ class DensityError {
     return figures(n);
   }
 
- private:
-  Kokkos::View<Real*, typename Space::memory_space> scratch(int n) {
-    if (static_cast<int>(err_.extent(0)) < n) err_ = decltype(err_)("dvisph::metrics::density_error", n);
-    return err_;
-  }
-
+  // The figures of the rule applied last, over its first n particles. (Public, as every
+  // member function with a device lambda: nvcc accepts no others.)
   DensityErrorFigures figures(int n) const {
     const auto err = err_;
     const auto count = count_;
@@ -129,6 +125,12 @@ class DensityError {
         *targets[next++] = smallest * std::pow(10.0, (b + 1.0) / per_decade);
     }
     return f;
+  }
+
+ private:
+  Kokkos::View<Real*, typename Space::memory_space> scratch(int n) {
+    if (static_cast<int>(err_.extent(0)) < n) err_ = decltype(err_)("dvisph::metrics::density_error", n);
+    return err_;
   }
 
   Kokkos::View<Real*, typename Space::memory_space> err_;
