@@ -43,51 +43,14 @@ if [ -f "$prefix/.complete" ]; then
   exit 0
 fi
 
-# deb-src entries derived from this machine's own bookworm (non-security) `deb` entries.
-src_list=/etc/apt/sources.list.d/dvisph-deb-src.sources
-if ! apt-cache showsrc trilinos 2>/dev/null | grep -q '^Package: trilinos'; then
-  log "adding deb-src entries derived from the existing apt sources"
-  tmp=$(mktemp)
-  # deb822 stanzas: copy those whose Types has `deb` and whose Suites name plain bookworm.
-  for f in /etc/apt/sources.list.d/*.sources; do
-    [ -f "$f" ] && [ "$f" != "$src_list" ] || continue
-    awk 'BEGIN{RS=""; ORS="\n\n"}
-         /(^|\n)Types:[^\n]*deb([ \n]|$)/ && /(^|\n)Suites:[^\n]*bookworm([ \n]|$)/ {
-           gsub(/(^|\n)#[^\n]*/, ""); sub(/Types:[^\n]*/, "Types: deb-src"); print }' "$f" >> "$tmp"
-  done
-  # one-line format
-  for f in /etc/apt/sources.list /etc/apt/sources.list.d/*.list; do
-    [ -f "$f" ] || continue
-    grep -E '^deb[[:space:]]+[^[]' "$f" | grep -E '[[:space:]]bookworm[[:space:]]' |
-      awk '{ $1 = ""; sub(/^ /, ""); split($0, a, " ");
-             printf "Types: deb-src\nURIs: %s\nSuites: %s\nComponents: main\n\n", a[1], a[2] }' >> "$tmp" || true
-  done
-  [ -s "$tmp" ] || { log "no bookworm deb entry found in the apt sources"; exit 1; }
-  sudo_ install -m 644 "$tmp" "$src_list"
-  rm -f "$tmp"
-  apt_updated=0
-  apt_update
-fi
-
-command -v dpkg-source >/dev/null || { apt_update; sudo_ apt-get install -y -qq dpkg-dev xz-utils >&2; }
-
-work="$cache/trilinos-src"
-mkdir -p "$work"
-if [ ! -d "$work/kokkos" ]; then
-  log "downloading the trilinos source package (for its Kokkos)"
-  (cd "$work" && apt-get source --download-only -qq trilinos >&2)
-  orig=$(ls "$work"/trilinos_*.orig.tar.* | head -1)
-  log "extracting packages/kokkos from $(basename "$orig")"
-  (cd "$work" && tar -xf "$orig" --wildcards '*/packages/kokkos/*' &&
-     mv ./*/packages/kokkos ./kokkos)
-fi
-version=$(grep -E 'set\(Kokkos_VERSION_(MAJOR|MINOR|PATCH)' "$work/kokkos/CMakeLists.txt" | grep -oE '[0-9]+\)' | tr -d ')' | paste -sd.)
+src=$(bash "$(dirname "$0")/kokkos_source.sh")
+version=$(grep -E 'set\(Kokkos_VERSION_(MAJOR|MINOR|PATCH)' "$src/CMakeLists.txt" | grep -oE '[0-9]+\)' | tr -d ')' | paste -sd.)
 log "building Kokkos $version (Serial + OpenMP) into $prefix"
-cmake -S "$work/kokkos" -B "$work/build" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_STANDARD=17 \
+cmake -S "$src" -B "$cache/kokkos-build" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_STANDARD=17 \
   -DCMAKE_INSTALL_PREFIX="$prefix" -DKokkos_ENABLE_SERIAL=ON -DKokkos_ENABLE_OPENMP=ON \
   -DKokkos_ENABLE_TESTS=OFF -DBUILD_SHARED_LIBS=OFF -DCMAKE_POSITION_INDEPENDENT_CODE=ON >&2
-cmake --build "$work/build" -j"$(nproc)" >&2
-cmake --install "$work/build" >&2
+cmake --build "$cache/kokkos-build" -j"$(nproc)" >&2
+cmake --install "$cache/kokkos-build" >&2
 touch "$prefix/.complete"
-rm -rf "$work"
+rm -rf "$cache/kokkos-build"
 echo "$prefix"

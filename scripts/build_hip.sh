@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# Compiles dvisph, its tests and benchmarks for AMD GPUs (Kokkos' HIP backend) with
+# Debian's ROCm (hipcc 5.2.3), into build-hip/. No AMD GPU is needed to compile, and
+# none is used: this checks that the one source builds for HIP.
+#   1. installs what the HIP build needs from Debian (hipcc, libamdhip64-dev);
+#   2. builds Kokkos 3.4.01 with HIP (+ Serial on the host) from the Kokkos sources in
+#      Debian's trilinos source package (scripts/kokkos_source.sh) for one target
+#      architecture, cached in $DVISPH_CACHE/kokkos-3.4.01-hip-<arch>;
+#   3. configures and builds dvisph with hipcc against it.
+# Environment:
+#   DVISPH_HIP_ARCH  Kokkos architecture option (default VEGA908: MI100, gfx908; Kokkos
+#                    3.4 knows VEGA900, VEGA906 and VEGA908, not MI200's gfx90a)
+#   DVISPH_CACHE     as for scripts/setup.sh (default ~/.cache/dvisph)
+#   Kokkos_ROOT      a Kokkos already built with HIP: step 2 is skipped
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+log() { echo "[build-hip] $*" >&2; }
+sudo_() { if [ "$(id -u)" = 0 ]; then "$@"; else sudo "$@"; fi; }
+
+bash scripts/setup.sh >/dev/null  # the common packages (and the host Kokkos, cached)
+missing=()
+for p in hipcc libamdhip64-dev; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  log "installing ${missing[*]}"
+  sudo_ apt-get update -qq >&2
+  DEBIAN_FRONTEND=noninteractive sudo_ apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
+fi
+
+arch="${DVISPH_HIP_ARCH:-VEGA908}"
+jobs=${DVISPH_BUILD_JOBS:-$(nproc)}
+if [ -z "${Kokkos_ROOT:-}" ]; then
+  cache="${DVISPH_CACHE:-$HOME/.cache/dvisph}"
+  Kokkos_ROOT="$cache/kokkos-3.4.01-hip-$arch"
+  if [ ! -f "$Kokkos_ROOT/.complete" ]; then
+    src=$(bash scripts/kokkos_source.sh)
+    log "building Kokkos (HIP, $arch) into $Kokkos_ROOT"
+    cmake -S "$src" -B "$cache/kokkos-hip-build" -DCMAKE_BUILD_TYPE=Release \
+      -DCMAKE_CXX_COMPILER=hipcc -DCMAKE_CXX_STANDARD=17 -DCMAKE_INSTALL_PREFIX="$Kokkos_ROOT" \
+      -DKokkos_ENABLE_HIP=ON -DKokkos_ENABLE_SERIAL=ON -DKokkos_ARCH_"$arch"=ON \
+      -DKokkos_ENABLE_TESTS=OFF -DBUILD_SHARED_LIBS=OFF >&2
+    cmake --build "$cache/kokkos-hip-build" -j"$jobs" >&2
+    cmake --install "$cache/kokkos-hip-build" >&2
+    touch "$Kokkos_ROOT/.complete"
+    rm -rf "$cache/kokkos-hip-build"
+  fi
+fi
+
+log "building dvisph for HIP ($arch) in build-hip/"
+start=$(date +%s)
+cmake -S . -B build-hip -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=hipcc \
+  -DKokkos_ROOT="$Kokkos_ROOT" >&2
+cmake --build build-hip -j"$jobs" >&2
+log "dvisph, tests and benchmarks compiled for HIP in $(( $(date +%s) - start )) s"
