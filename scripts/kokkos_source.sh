@@ -20,7 +20,8 @@ fi
 
 # deb-src entries derived from this machine's own bookworm (non-security) `deb` entries.
 src_list=/etc/apt/sources.list.d/dvisph-deb-src.sources
-if ! apt-cache showsrc trilinos 2>/dev/null | grep -q '^Package: trilinos'; then
+# (grep reads all of it: with -q it would stop early and pipefail would see apt-cache's SIGPIPE)
+if ! apt-cache showsrc trilinos 2>/dev/null | grep '^Package: trilinos' >/dev/null; then
   log "adding deb-src entries derived from the existing apt sources"
   tmp=$(mktemp)
   # deb822 stanzas: copy those whose Types has `deb` and whose Suites name plain bookworm.
