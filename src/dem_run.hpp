@@ -134,8 +134,9 @@ class DemRun {
     const auto& b = *s_.solids;
     return fmt::format(
         "  \"particles\": {{\"solid\": {}}},\n  \"dem\": {{\"dt\": {:.6g}, \"contact_time\": {:.6g}, "
-        "\"contacts_per_bead\": {:.3f}}},\n",
-        dem_.spheres().n, dem_.time_step(), dem_.time_step() / b.dt_safety, dem_.contacts_per_bead());
+        "\"contacts_per_bead\": {:.3f}, \"list_builds\": {}}},\n",
+        dem_.spheres().n, dem_.time_step(), dem_.time_step() / b.dt_safety, dem_.contacts_per_bead(),
+        dem_.list_builds());
   }
 
   std::string metrics() const {

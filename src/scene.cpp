@@ -418,6 +418,7 @@ Scene parse_scene(const std::string& yaml_text, const std::vector<std::string>& 
     b.friction = r.number("solids.friction");
     b.dt_safety = r.number("solids.dt_safety");
     b.rotation = r.at("solids.rotation").as<bool>();
+    b.list_skin = r.number("solids.list_skin");
     for (const auto& l : root["solids"]["lattice"]) b.lattice.push_back(read_box(l));
     b.lattice_spacing = r.number("solids.lattice_spacing");
     b.jitter = r.number("solids.jitter");

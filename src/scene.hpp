@@ -39,7 +39,7 @@ struct Scene {
     std::vector<double> x, v;
   };
   struct Solids {
-    double diameter, density, restitution, stiffness, friction, dt_safety;
+    double diameter, density, restitution, stiffness, friction, dt_safety, list_skin;
     bool rotation;
     std::vector<Box> lattice;
     double lattice_spacing, jitter;

@@ -97,6 +97,7 @@ dem::DemSolver<D, Space> scene_dem(const Scene& s) {
   dem::DemOptions<D> options;
   options.safety = b.dt_safety;
   options.rotation = b.rotation;
+  options.list_skin = b.list_skin;
   return dem::DemSolver<D, Space>(scene_spheres<D, Space>(s), scene_walls<D>(s),
                                   dem::LinearSpringDashpot<D>(b.stiffness, b.restitution, b.friction),
                                   lo, hi, g, options);

@@ -123,6 +123,10 @@ Field make_schema() {
                          "a contact gets too few steps and strongly damped beds gain energy "
                          "(docs/stability.md)", true),
                   boolean("rotation", "true", "false: beads do not rotate (torques ignored)"),
+                  number("list_skin", "", "0.1", 0, 2,
+                         "Verlet list skin over the bead diameter: pairs this much farther apart "
+                         "than the contact search are listed, and the list is rebuilt once a "
+                         "bead has moved half of it"),
                   list("lattice", false,
                        {vector("lo", "m", "", "lower corner"), vector("hi", "m", "", "upper corner")},
                        "boxes filled with beads on a square lattice, bottom layer first"),
