@@ -1,6 +1,8 @@
-// Cost of a DEM step (kick-drift, rebinning, contact forces with history, kick) per bead,
-// for the paper's glass beads in a dense bed in a box, at 1e4, 1e5 and 1e6 beads, on
-// Serial and the default execution space. Also the binning alone (rebuilt every step),
+// Cost of a DEM step (kick-drift, the Verlet list's check and, when due, its rebuild,
+// contact forces with history, kick) per bead, for the paper's glass beads in a dense bed
+// in a box, at 1e4, 1e5 and 1e6 beads, on Serial and the default execution space. Beads
+// at rest rarely need a rebuild: the figure is the step between rebuilds (before
+// 2026-12-01 it binned every step). Also the binning alone (part of a list rebuild),
 // a reorder by cell, and steps before it, on beads shuffled in memory. Writes JSON (one
 // record per case) to argv[1]; `--no-serial` skips the Serial cases (for a second run
 // at another thread count).
