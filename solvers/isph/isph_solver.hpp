@@ -1,8 +1,10 @@
 #pragma once
-// Stabilized ISPH for clear water (method.md §4 with eps = 1, C_r = 1). The solver
-// owns the particles and the step; the step is a list of stages assembled from the
-// scene, so a stage a scene does not need (viscosity, gate, a second pressure
-// solve) is neither allocated nor run.
+// Stabilized ISPH (method.md §4), selective dual-velocity where numerics.alpha and
+// numerics.beta differ, for clear water (the ClearWater medium: eps = 1, C_r = 1; the
+// kernels take a medium, medium.hpp). The solver owns the particles and the step; the
+// step is a list of stages assembled from the scene, so what a scene does not need
+// (viscosity, gate, a second pressure solve and the transport velocity's array) is
+// neither allocated nor run.
 #include "kernels/summation_density.hpp"
 #include "solvers/isph/corrector.hpp"
 #include "solvers/isph/predictor.hpp"

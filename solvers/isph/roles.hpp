@@ -11,9 +11,14 @@
 //    with V_j = m_j / (eps_j rho_f) leave it at 0), 1 on a flat face, 0.18 (2D) and
 //    0.16 (3D) one layer below it at h = 1.5 dx, 0 two layers below; it scatters on
 //    disordered particles (0.1 dx jitter: 0.09 median, 0.25 at most in 2D;
-//    figures from scripts/ppe_symbols.py). It decides where the
-//    density-invariance term and the ghost air apply (invariance_weight below) and
-//    which particles the density-error metric leaves out (src/metrics.hpp);
+//    figures from scripts/ppe_symbols.py). The metric's free-surface test reads it
+//    (src/metrics.hpp);
+//  - the weight of the density-invariance term: 1 up to t = `invariance_full`, 0 from
+//    `invariance_none`, linear in between, and 0 on the surface. Where part of the
+//    support is air, <rho> is low because of the air, not because the water expanded;
+//    t tells the two apart where <rho> and div r cannot (docs/isph.md has the choice
+//    and the old div r weight it replaces, which switched the term off in expanded
+//    water);
 //  - wall particles with no fluid neighbour play no part (excluded);
 //  - a wall particle to which the water pressure, continued hydrostatically from its
 //    fluid neighbours (Shepard average of P_j + rho0 g.(x_w - x_j), last step's P),
