@@ -130,13 +130,21 @@ class DemRun {
     stopped_at_ = c.number("dem_run/stopped_at");
   }
 
+  // "name": seconds of each DEM stage over this process's steps
+  std::string stage_times() const {
+    std::string t;
+    for (std::size_t k = 0; k < dem_.stage_seconds().size(); ++k)
+      t += fmt::format("{}\"{}\": {:.4f}", k ? ", " : "", dem_.stage_names[k], dem_.stage_seconds()[k]);
+    return t;
+  }
+
   std::string summary() const {
     const auto& b = *s_.solids;
     return fmt::format(
         "  \"particles\": {{\"solid\": {}}},\n  \"dem\": {{\"dt\": {:.6g}, \"contact_time\": {:.6g}, "
-        "\"contacts_per_bead\": {:.3f}, \"list_builds\": {}}},\n",
+        "\"contacts_per_bead\": {:.3f}, \"list_builds\": {}}},\n  \"stage_seconds\": {{{}}},\n",
         dem_.spheres().n, dem_.time_step(), dem_.time_step() / b.dt_safety, dem_.contacts_per_bead(),
-        dem_.list_builds());
+        dem_.list_builds(), stage_times());
   }
 
   std::string metrics() const {

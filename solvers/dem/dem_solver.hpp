@@ -20,6 +20,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -105,6 +106,9 @@ class DemSolver {
   Real time() const { return time_; }
   Real time_step() const { return dt_; }  // safety * contact time
   long list_builds() const { return list_builds_; }  // Verlet list builds so far
+  // Seconds spent in each stage of the steps so far (each fenced), in step order.
+  static constexpr const char* stage_names[] = {"kick_drift", "contact_list", "contact_forces", "kick"};
+  const std::array<double, 4>& stage_seconds() const { return stage_seconds_; }
 
   void set_wall_active(int w, bool active) {
     walls_.at(w).active = active;
@@ -388,12 +392,26 @@ class DemSolver {
       contact_forces(dt);
       forces_ready_ = true;
     }
-    kick_drift(dt);
-    if (list_due()) build_list();
-    contact_forces(dt);
-    history_.commit();
-    kick(dt);
+    timed(0, [&] { kick_drift(dt); });
+    timed(1, [&] {
+      if (list_due()) build_list();
+    });
+    timed(2, [&] {
+      contact_forces(dt);
+      history_.commit();
+    });
+    timed(3, [&] { kick(dt); });
     time_ += dt;
+  }
+
+  template <class F>
+  void timed(int stage, F&& f) {
+    Kokkos::Profiling::pushRegion(std::string("dvisph::dem::") + stage_names[stage]);
+    Kokkos::Timer timer;
+    f();
+    Space().fence();
+    stage_seconds_[stage] += timer.seconds();
+    Kokkos::Profiling::popRegion();
   }
 
   void upload_walls() {
@@ -450,6 +468,7 @@ class DemSolver {
   Kokkos::View<int[flags], memory_space> status_;
   Real skin_ = 0, search_radius_ = 0, list_skin_ = 0, dt_ = 0, time_ = 0;
   long list_builds_ = 0;
+  std::array<double, 4> stage_seconds_ = {};
   bool forces_ready_ = false;
 };
 
