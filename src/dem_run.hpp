@@ -138,6 +138,8 @@ class DemRun {
     return t;
   }
 
+  void write_files(const std::string&) const {}  // none besides the driver's
+
   std::string summary() const {
     const auto& b = *s_.solids;
     return fmt::format(

@@ -67,6 +67,13 @@ class IsphRun {
                                                     solver_.size());
       worst_weighted_rule_.max = std::max(worst_weighted_rule_.max, old.max);
       worst_weighted_rule_.p95 = std::max(worst_weighted_rule_.p95, old.p95);
+      if (s_.density_error_at > 0 && at_.t < 0 && info.t >= s_.density_error_at - 1e-12) {
+        // the weighted rule above replaced the histogram: the paper's again
+        density_error_.template paper_rule<D>(solver_.neighbors(), p.kind, solver_.density(),
+                                              solver_.pressure(), solver_.truncation(),
+                                              solver_.reference_density(), solver_.size());
+        at_ = {info.t, derr, density_error_.histogram()};
+      }
     }
     wall_penetration_ =
         std::max(wall_penetration_, wall_penetration<D, Space>(p.x, p.kind, solver_.size(), walls_));
@@ -116,6 +123,11 @@ class IsphRun {
     c.set("isph_run/density_error_p95_weighted_rule", worst_weighted_rule_.p95);
     c.set("isph_run/wall_penetration", wall_penetration_);
     c.set("isph_run/max_transport_shift", max_transport_shift_);
+    c.set("isph_run/at_t", at_.t);
+    if (at_.t >= 0) {
+      c.put("isph_run/at_figures", host_view(at_.figure_list()));
+      c.put("isph_run/at_histogram", host_view(at_.histogram));
+    }
     c.put("isph_run/front_T", host_view(front_.T));
     c.put("isph_run/front_Z", host_view(front_.Z));
   }
@@ -129,6 +141,15 @@ class IsphRun {
     worst_weighted_rule_.p95 = c.number("isph_run/density_error_p95_weighted_rule");
     wall_penetration_ = c.number("isph_run/wall_penetration");
     max_transport_shift_ = c.number("isph_run/max_transport_shift");
+    at_ = {};
+    at_.t = c.number("isph_run/at_t");
+    if (at_.t >= 0) {
+      std::vector<double> f(5);
+      c.get("isph_run/at_figures", host_view(f));
+      at_.figures = {f[0], f[1], f[2], f[3], static_cast<long>(f[4])};
+      at_.histogram.resize(c.extents("isph_run/at_histogram").at(0));
+      c.get("isph_run/at_histogram", host_view(at_.histogram));
+    }
     for (auto* v : {&front_.T, &front_.Z}) {
       const std::string name = v == &front_.T ? "isph_run/front_T" : "isph_run/front_Z";
       v->resize(c.extents(name).at(0));
@@ -155,6 +176,22 @@ class IsphRun {
         double(solver_.memory_bytes()) / std::max(1, solver_.size()));
   }
 
+  // Files besides the driver's: the density error's histogram at metrics.density_error_at.
+  void write_files(const std::string& out) const {
+    if (at_.t < 0) return;
+    const std::string path = out + "/density_error_histogram.csv";
+    std::ofstream f(path);
+    f << "# |<rho> - rho_ref| / rho_ref of counted particles (src/metrics.hpp) at t = "
+      << fmt::format("{:.6g}", at_.t) << " s; bins of 1/" << DensityError<Space>::per_decade
+      << " decade, the last open above\nlower,upper,count\n";
+    const int bins = static_cast<int>(at_.histogram.size());
+    for (int b = 0; b < bins; ++b)
+      f << fmt::format("{:.6g},{},{}\n", DensityError<Space>::bin_lower(b),
+                       b + 1 < bins ? fmt::format("{:.6g}", DensityError<Space>::bin_lower(b + 1)) : "inf",
+                       at_.histogram[b]);
+    if (!f.flush()) throw std::runtime_error("cannot write " + path);
+  }
+
   std::string metrics() const {
     std::string m = fmt::format(
         "\"max_density_error\": {:.6g}, \"density_error_p95\": {:.6g}, "
@@ -163,6 +200,11 @@ class IsphRun {
         worst_.max, worst_.p95, worst_weighted_rule_.max, worst_weighted_rule_.p95,
         wall_penetration_ / s_.spacing);
     if (s_.alpha != s_.beta) m += fmt::format(", \"max_transport_shift_over_h\": {:.4g}", max_transport_shift_);
+    if (at_.t >= 0)
+      m += fmt::format(
+          ", \"density_error_at\": {{\"t\": {:.6g}, \"p50\": {:.4g}, \"p95\": {:.4g}, "
+          "\"p99\": {:.4g}, \"max\": {:.6g}, \"counted\": {}}}",
+          at_.t, at_.figures.p50, at_.figures.p95, at_.figures.p99, at_.figures.max, at_.figures.counted);
     if (dam_break_) {
       int points = 0;
       const auto data = martin_moyce();
@@ -206,6 +248,15 @@ class IsphRun {
   double wall_penetration_ = 0;   // m, deepest over the series rows
   double max_transport_shift_ = 0;  // largest dt max|v_transport - v| / h over the steps
   DensityError<Space> density_error_;
+  // the density error at metrics.density_error_at (t < 0: not reached or not asked)
+  struct AtTime {
+    double t = -1;
+    DensityErrorFigures figures;
+    std::vector<long> histogram;
+    std::vector<double> figure_list() const {
+      return {figures.max, figures.p50, figures.p95, figures.p99, double(figures.counted)};
+    }
+  } at_;
   bool stepped_ = false;  // a step ran in this process (the density error needs its neighbours)
   double pair_visits_ = 0;        // neighbour pairs swept by this process's steps
   long cg_total_ = 0;

@@ -95,6 +95,16 @@ class DensityError {
     return figures(n);
   }
 
+  // Counts per bin of the rule applied last (after its figures), and bin b's edges:
+  // [smallest 10^(b / per_decade), smallest 10^((b + 1) / per_decade)), the first bin
+  // from 0, the last to infinity.
+  std::vector<long> histogram() const {
+    std::vector<long> h(bins);
+    for (int b = 0; b < bins; ++b) h[b] = host_(b);
+    return h;
+  }
+  static Real bin_lower(int b) { return b == 0 ? 0 : smallest * std::pow(10.0, Real(b) / per_decade); }
+
   // The figures of the rule applied last, over its first n particles. (Public, as every
   // member function with a device lambda: nvcc accepts no others.)
   DensityErrorFigures figures(int n) const {

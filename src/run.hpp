@@ -188,6 +188,7 @@ int run(Sim& sim, const Scene& s, const RunOptions& opt) {
   const long steps = sim.step_count() - first_step;
   const double ns = 1e9 * seconds / std::max(1.0, double(steps) * sim.particle_count());
   const auto backend = backend_info();
+  sim.write_files(out);
   const std::string metrics = sim.metrics();
   std::ofstream summary(out + "/summary.json");
   summary << fmt::format(

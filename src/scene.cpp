@@ -455,6 +455,7 @@ Scene parse_scene(const std::string& yaml_text, const std::vector<std::string>& 
   s.series_every = r.integer("output.series_every");
   s.checkpoint_every = r.number("output.checkpoint_every");
   s.metrics_kind = r.text("metrics.kind");
+  s.density_error_at = r.number("metrics.density_error_at");
   s.column_width = r.number("metrics.column_width");
   s.water_height = r.number("metrics.water_height");
   check_consistency(s);

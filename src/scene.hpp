@@ -68,6 +68,7 @@ struct Scene {
 
   std::string metrics_kind = "none";
   double column_width = 0, water_height = 0;
+  double density_error_at = 0;  // s; 0: none
 
   std::string yaml;  // the scene as validated, overrides applied
 };

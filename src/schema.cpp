@@ -226,6 +226,10 @@ Field make_schema() {
                          "T = t sqrt(2 g / a))"),
                   number("water_height", "m", "0", 0, inf,
                          "hydrostatic: still-water height H for P = rho g (H - y)"),
+                  number("density_error_at", "s", "0", 0, inf,
+                         "water: time at which the density error's p50, p95, p99 and max go "
+                         "into summary.json and its histogram into density_error_histogram.csv "
+                         "(the first series row at or after it; 0: none)"),
               },
               "figures the run reports"),
       },

@@ -57,8 +57,13 @@ void require_identical(const View& a, const View& b, const std::string& what) {
 
 }  // namespace
 
+// Once with one pressure solve, once with the dual-velocity step (two solves, the
+// transport velocity moving the particles).
 TEST_CASE("ISPH restart from a checkpoint file is bit-identical", "[checkpoint]") {
-  const Scene s = parse_scene(dam_break);
+  const auto dual = GENERATE(false, true);
+  INFO((dual ? "alpha = 0, beta = 0.5" : "alpha = beta"));
+  const Scene s = dual ? parse_scene(dam_break, {"numerics.alpha=0", "numerics.beta=0.5"})
+                       : parse_scene(dam_break);
   using Solver = IsphSolver<2, WendlandC2<2>, TestSpace>;
   Solver straight(s), first(s);
   for (int k = 0; k < 60; ++k) straight.step();
