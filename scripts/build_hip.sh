@@ -16,18 +16,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 log() { echo "[build-hip] $*" >&2; }
-sudo_() { if [ "$(id -u)" = 0 ]; then "$@"; else sudo "$@"; fi; }
 
-bash scripts/setup.sh >/dev/null  # the common packages (and the host Kokkos, cached)
-missing=()
-for p in hipcc libamdhip64-dev; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  log "installing ${missing[*]}"
-  sudo_ apt-get update -qq >&2
-  DEBIAN_FRONTEND=noninteractive sudo_ apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
-fi
+# the common packages and the HIP compiler (and the host Kokkos, cached)
+DVISPH_EXTRA_PACKAGES="hipcc libamdhip64-dev" bash scripts/setup.sh >/dev/null
 
 arch="${DVISPH_HIP_ARCH:-VEGA908}"
 jobs=${DVISPH_BUILD_JOBS:-$(nproc)}

@@ -22,11 +22,17 @@ def dW(r, h, D):
     return np.where(q < 2, a * (-5 * q * (1 - q / 2) ** 3) / h, 0)
 
 
+def lattice(D, h):
+    """Offsets (in dx) of the square lattice points around a particle, a spacing beyond
+    the support radius 2h, the particle itself included (the middle row)."""
+    reach = int(np.ceil(2 * h)) + 1
+    axis = np.arange(-reach, reach + 1)
+    return np.array(np.meshgrid(*[axis] * D, indexing="ij")).reshape(D, -1).T.astype(float)
+
+
 for D, hs in ((2, (1.2, 1.3, 1.5, 1.6)), (3, (1.2, 1.5, 1.6))):
     for h in hs:
-        reach = int(np.ceil(2 * h)) + 1
-        axis = np.arange(-reach, reach + 1)
-        m = np.array(np.meshgrid(*[axis] * D, indexing="ij")).reshape(D, -1).T.astype(float)
+        m = lattice(D, h)
         r = np.linalg.norm(m, axis=1)
         m, r = m[r > 0], r[r > 0]
         grad = (dW(r, h, D) / r)[:, None] * m
@@ -47,9 +53,7 @@ for D, hs in ((2, (1.2, 1.3, 1.5, 1.6)), (3, (1.2, 1.5, 1.6))):
 print()
 for D in (2, 3):
     h = 1.5
-    reach = int(np.ceil(2 * h)) + 1
-    axis = np.arange(-reach, reach + 1)
-    m = np.array(np.meshgrid(*[axis] * D, indexing="ij")).reshape(D, -1).T.astype(float)
+    m = lattice(D, h)
 
     def sums(p):
         r = np.linalg.norm(p, axis=1)
@@ -81,9 +85,7 @@ for D in (2, 3):
 print()
 for D in (2, 3):
     h = 1.5
-    reach = int(np.ceil(2 * h)) + 1
-    axis = np.arange(-reach, reach + 1)
-    m = np.array(np.meshgrid(*[axis] * D, indexing="ij")).reshape(D, -1).T.astype(float)
+    m = lattice(D, h)
 
     def cut(p):  # |sum_j grad W(x_i - x_j)| for x_i at the origin, x_j = p
         r = np.linalg.norm(p, axis=1)

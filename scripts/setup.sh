@@ -7,13 +7,14 @@
 # Environment:
 #   Kokkos_ROOT      use this Kokkos install (e.g. a CUDA build); nothing is built
 #   DVISPH_CACHE     where the Kokkos build is cached (default ~/.cache/dvisph)
+#   DVISPH_EXTRA_PACKAGES  more Debian packages to install (e.g. scripts/build_hip.sh's)
 set -euo pipefail
 
 log() { echo "[setup] $*" >&2; }
 
 packages=(cmake g++ make pkg-config libeigen3-dev libhdf5-dev catch2 libyaml-cpp-dev
           libcli11-dev libfmt-dev libbenchmark-dev python3 python3-h5py python3-matplotlib
-          python3-numpy python3-yaml)
+          python3-numpy python3-yaml ${DVISPH_EXTRA_PACKAGES:-})
 
 sudo_() { if [ "$(id -u)" = 0 ]; then "$@"; else sudo "$@"; fi; }
 

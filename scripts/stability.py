@@ -162,7 +162,7 @@ FINDINGS = {
     "hydrostatic_2d":
         "2026-12-01 (issue 19), same changes: 30 of 30 stable. With the new metric the regular "
         "lattices at h/dx >= 1.5 reach at most 0.24-0.93 % (before 0.2-1.44 %) and the jittered ones "
-        "2.4-5.2 % (before 3.6-5.2 %), the jitter's own error included. Earlier text: "
+        "2.4-5.2 % (before also 2.4-5.2 %), the jitter's own error included. Earlier text: "
         "Every cell keeps all particles; every CG converged. The density error is the largest "
         "over the run, which for a jittered start is the jitter itself (about 5 %). Without "
         "jitter at h/dx >= 1.5: 1.37-1.44 % at gamma <= 0.001, 0.65-0.78 % at 0.1, 0.2-0.39 % at "

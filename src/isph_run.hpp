@@ -57,23 +57,19 @@ class IsphRun {
     const double front = front_position<Space>(p.x, p.kind, solver_.size()) - s_.tank.lo[0];
     DensityErrorFigures derr;  // none before this process's first step: no neighbour list yet
     if (stepped_) {
-      derr = density_error_.template paper_rule<D>(solver_.neighbors(), p.kind, solver_.density(),
-                                                   solver_.pressure(), solver_.truncation(),
-                                                   solver_.reference_density(), solver_.size());
-      worst_.max = std::max(worst_.max, derr.max);
-      worst_.p95 = std::max(worst_.p95, derr.p95);
       const auto old = density_error_.weighted_rule(p.kind, solver_.density(), solver_.pressure(),
                                                     solver_.invariance(), solver_.reference_density(),
                                                     solver_.size());
       worst_weighted_rule_.max = std::max(worst_weighted_rule_.max, old.max);
       worst_weighted_rule_.p95 = std::max(worst_weighted_rule_.p95, old.p95);
-      if (s_.density_error_at > 0 && at_.t < 0 && info.t >= s_.density_error_at - 1e-12) {
-        // the weighted rule above replaced the histogram: the paper's again
-        density_error_.template paper_rule<D>(solver_.neighbors(), p.kind, solver_.density(),
-                                              solver_.pressure(), solver_.truncation(),
-                                              solver_.reference_density(), solver_.size());
+      // the paper's rule last: its histogram is the one density_error_ then holds
+      derr = density_error_.template paper_rule<D>(solver_.neighbors(), p.kind, solver_.density(),
+                                                   solver_.pressure(), solver_.truncation(),
+                                                   solver_.reference_density(), solver_.size());
+      worst_.max = std::max(worst_.max, derr.max);
+      worst_.p95 = std::max(worst_.p95, derr.p95);
+      if (s_.density_error_at > 0 && at_.t < 0 && info.t >= s_.density_error_at - 1e-12)
         at_ = {info.t, derr, density_error_.histogram()};
-      }
     }
     wall_penetration_ =
         std::max(wall_penetration_, wall_penetration<D, Space>(p.x, p.kind, solver_.size(), walls_));
@@ -125,7 +121,11 @@ class IsphRun {
     c.set("isph_run/max_transport_shift", max_transport_shift_);
     c.set("isph_run/at_t", at_.t);
     if (at_.t >= 0) {
-      c.put("isph_run/at_figures", host_view(at_.figure_list()));
+      c.set("isph_run/at_max", at_.figures.max);
+      c.set("isph_run/at_p50", at_.figures.p50);
+      c.set("isph_run/at_p95", at_.figures.p95);
+      c.set("isph_run/at_p99", at_.figures.p99);
+      c.set("isph_run/at_counted", static_cast<double>(at_.figures.counted));
       c.put("isph_run/at_histogram", host_view(at_.histogram));
     }
     c.put("isph_run/front_T", host_view(front_.T));
@@ -144,9 +144,9 @@ class IsphRun {
     at_ = {};
     at_.t = c.number("isph_run/at_t");
     if (at_.t >= 0) {
-      std::vector<double> f(5);
-      c.get("isph_run/at_figures", host_view(f));
-      at_.figures = {f[0], f[1], f[2], f[3], static_cast<long>(f[4])};
+      at_.figures = {c.number("isph_run/at_max"), c.number("isph_run/at_p50"),
+                     c.number("isph_run/at_p95"), c.number("isph_run/at_p99"),
+                     static_cast<long>(c.number("isph_run/at_counted"))};
       at_.histogram.resize(c.extents("isph_run/at_histogram").at(0));
       c.get("isph_run/at_histogram", host_view(at_.histogram));
     }
@@ -253,9 +253,6 @@ class IsphRun {
     double t = -1;
     DensityErrorFigures figures;
     std::vector<long> histogram;
-    std::vector<double> figure_list() const {
-      return {figures.max, figures.p50, figures.p95, figures.p99, double(figures.counted)};
-    }
   } at_;
   bool stepped_ = false;  // a step ran in this process (the density error needs its neighbours)
   double pair_visits_ = 0;        // neighbour pairs swept by this process's steps

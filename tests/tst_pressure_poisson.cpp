@@ -18,6 +18,68 @@
 using namespace dvisph;
 using Mem = TestSpace::memory_space;
 
+namespace {
+// The PPE's inputs for a 2D scene's particles at the given positions, with v* given
+// per particle: the neighbour list (cells over the box lo..hi), summation density,
+// roles, invariance weights and the lattice references.
+template <class Kernel>
+struct PpeInputs {
+  static constexpr int D = 2;
+  using Points = std::vector<std::array<Real, D>>;
+  Kernel kernel;
+  int n;
+  Real volume, rho0;
+  Kokkos::View<Real* [D], Mem> x, vstar;
+  Kokkos::View<Kind*, Mem> kind;
+  Kokkos::View<Real*, Mem> m, rho, weight, truncation, diag;
+  Kokkos::View<Role*, Mem> role;
+  CellList<D, TestSpace> cells;
+  NeighborList<D, TestSpace> list;
+  SupportReference<D> ref;
+
+  PpeInputs(const Scene& scene, const Kernel& k, const Points& points, const std::vector<Kind>& kinds,
+            const Points& velocities, const Vec<D>& lo, const Vec<D>& hi)
+      : kernel(k),
+        n(static_cast<int>(points.size())),
+        volume(scene.spacing * scene.spacing),
+        rho0(scene.density),
+        x("x", n),
+        vstar("vstar", n),
+        kind("kind", n),
+        m("m", n),
+        rho("rho", n),
+        weight("weight", n),
+        truncation("truncation", n),
+        diag("diag", n),
+        role("role", n),
+        cells(Grid<D>(lo, hi, k.radius())),
+        ref(support_reference<D>(k, scene.spacing, scene.density)) {
+    auto hx = Kokkos::create_mirror_view(x);
+    auto hv = Kokkos::create_mirror_view(vstar);
+    auto hk = Kokkos::create_mirror_view(kind);
+    for (int i = 0; i < n; ++i) {
+      hk(i) = kinds[i];
+      for (int c = 0; c < D; ++c) hx(i, c) = points[i][c], hv(i, c) = velocities[i][c];
+    }
+    Kokkos::deep_copy(x, hx);
+    Kokkos::deep_copy(vstar, hv);
+    Kokkos::deep_copy(kind, hk);
+    Kokkos::deep_copy(m, rho0 * volume);
+    cells.build(x, n);
+    list.build(CellSweep<D, TestSpace>(cells, x, kernel.radius()), x, n);
+    const Kokkos::View<Real**, Mem> no_pressure("p", n, 1);  // last step's: none yet
+    density_and_roles<D>(list.sweep(), kernel, x, m, kind, no_pressure, ClearWater{}, volume,
+                         surface_test<D>(scene, ref), rho, role, weight, truncation, n);
+  }
+
+  using Ppe = PressurePoisson<D, typename NeighborList<D, TestSpace>::Sweep, Kernel,
+                              Kokkos::View<Real* [D], Mem>, Kokkos::View<Role*, Mem>>;
+  Ppe ppe(const TankWalls<D>& walls) const {
+    return {list.sweep(), kernel, x, role, volume, ref.laplacian, walls};
+  }
+};
+}  // namespace
+
 TEST_CASE("PCG, matrix-free and stored, equals Eigen's CG on the assembled PPE", "[pressure_poisson]") {
   constexpr int D = 2;
   const Scene scene = parse_scene(R"(
@@ -35,43 +97,26 @@ geometry:
   for (std::size_t i = 0; i < init.x.size(); ++i)
     if (init.kind[i] == Kind::fluid)
       for (int k = 0; k < D; ++k) init.x[i][k] += u(rng);
-  const int n = static_cast<int>(init.x.size());
-  const Real dx = scene.spacing, volume = dx * dx, rho0 = 1000, dt = 1e-3;
-  const CubicSpline<D> kernel(1.3 * dx);
-
-  Kokkos::View<Real* [D], Mem> x("x", n), vstar("vstar", n);
-  Kokkos::View<Kind*, Mem> kind("kind", n);
-  Kokkos::View<Real*, Mem> m("m", n), rho("rho", n), invariance("invariance", n),
-      truncation("truncation", n), diag("diag", n);
-  Kokkos::View<Role*, Mem> role("role", n);
-  copy_points<D>(init.x, x);
-  {
-    auto hk = Kokkos::create_mirror_view(kind);
-    auto hv = Kokkos::create_mirror_view(vstar);
-    for (int i = 0; i < n; ++i) {
-      hk(i) = init.kind[i];
-      for (int k = 0; k < D; ++k) hv(i, k) = 0.1 * u(rng) / dx;
-    }
-    Kokkos::deep_copy(kind, hk);
-    Kokkos::deep_copy(vstar, hv);
+  const Real dx = scene.spacing, dt = 1e-3;
+  PpeInputs<CubicSpline<D>>::Points points, velocities;
+  for (const auto& xi : init.x) points.push_back({xi[0], xi[1]});
+  for (std::size_t i = 0; i < init.x.size(); ++i) {
+    const Real vx = 0.1 * u(rng) / dx, vy = 0.1 * u(rng) / dx;
+    velocities.push_back({vx, vy});
   }
-  Kokkos::deep_copy(m, rho0 * volume);
-
-  CellList<D, TestSpace> cells(Grid<D>(init.domain_lo, init.domain_hi, kernel.radius()));
-  cells.build(x, n);
-  NeighborList<D, TestSpace> list;
-  list.build(CellSweep<D, TestSpace>(cells, x, kernel.radius()), x, n);
+  const PpeInputs<CubicSpline<D>> in(scene, CubicSpline<D>(1.3 * dx), points, init.kind, velocities,
+                                     init.domain_lo, init.domain_hi);
+  const int n = in.n;
+  const auto& x = in.x;
+  const auto& role = in.role;
+  const auto& diag = in.diag;
+  const auto& kernel = in.kernel;
+  const auto& ref = in.ref;
+  const Real volume = in.volume;
   Kokkos::View<Real**, Mem> b("b", n, 2), p("p", n, 2);
-  const auto ref = support_reference<D>(kernel, dx, rho0);
-  const SurfaceTest<D> test = surface_test<D>(scene, ref);
-  density_and_roles<D>(list.sweep(), kernel, x, m, kind, p, ClearWater{}, volume, test, rho, role,
-                       invariance, truncation, n);
-
-  using PPE = PressurePoisson<D, NeighborList<D, TestSpace>::Sweep, CubicSpline<D>, decltype(x),
-                              decltype(role)>;
-  const PPE ppe{list.sweep(), kernel, x, role, volume, ref.laplacian, tank_walls<D>(scene)};
+  const auto ppe = in.ppe(tank_walls<D>(scene));
   const Real gamma[max_rhs] = {0.0, 0.5};
-  ppe.assemble(vstar, rho, invariance, rho0, ref.rho, Vec<D>{{0, -9.81}}, dt, gamma, diag, b, n);
+  ppe.assemble(in.vstar, in.rho, in.weight, in.rho0, ref.rho, Vec<D>{{0, -9.81}}, dt, gamma, diag, b, n);
   ConjugateGradient<TestSpace> cg;
   const auto result = cg.solve(ppe, diag, b, p, n, 1e-12, 5000);
   REQUIRE(result.converged);
@@ -175,62 +220,39 @@ geometry:
   tank: {lo: [0, 0], hi: [0.3, 0.3]}
   fluid: [{lo: [0, 0], hi: [0.3, 0.2]}]
 )");
-  auto init = scene_particles<D>(scene);
-  const int n = static_cast<int>(init.x.size());
-  const Real dx = scene.spacing, volume = dx * dx, rho0 = scene.density, dt = 1e-3;
-  const WendlandC2<D> kernel(scene.h_over_dx * dx);
-  Kokkos::View<Real* [D], Mem> x("x", n), vstar("vstar", n);
-  Kokkos::View<Kind*, Mem> kind("kind", n);
-  Kokkos::View<Real*, Mem> m("m", n), rho("rho", n), weight("weight", n), truncation("truncation", n),
-      diag("diag", n);
-  Kokkos::View<Role*, Mem> role("role", n);
-  Kokkos::View<Real**, Mem> b("b", n, 1), p("p", n, 1);
+  const auto init = scene_particles<D>(scene);
+  const Real dt = 1e-3;
   Assembled a;
-  {
-    auto hx = Kokkos::create_mirror_view(x);
-    auto hv = Kokkos::create_mirror_view(vstar);
-    auto hk = Kokkos::create_mirror_view(kind);
-    for (int i = 0; i < n; ++i) {
-      hk(i) = init.kind[i];
-      for (int k = 0; k < D; ++k) hx(i, k) = stretch * init.x[i][k];
-      const auto v = velocity(std::array<Real, 2>{hx(i, 0), hx(i, 1)});
-      for (int k = 0; k < D; ++k) hv(i, k) = hk(i) == Kind::fluid ? v[k] : 0;
-      a.x.push_back({hx(i, 0), hx(i, 1)});
-      a.kind.push_back(hk(i));
-    }
-    Kokkos::deep_copy(x, hx);
-    Kokkos::deep_copy(vstar, hv);
-    Kokkos::deep_copy(kind, hk);
+  PpeInputs<WendlandC2<D>>::Points points, velocities;
+  for (std::size_t i = 0; i < init.x.size(); ++i) {
+    const std::array<Real, 2> xi{stretch * init.x[i][0], stretch * init.x[i][1]};
+    points.push_back(xi);
+    velocities.push_back(init.kind[i] == Kind::fluid ? velocity(xi) : std::array<Real, 2>{0, 0});
+    a.x.push_back(xi);
+    a.kind.push_back(init.kind[i]);
   }
-  Kokkos::deep_copy(m, rho0 * volume);
   Vec<D> lo = init.domain_lo, hi = init.domain_hi;
   for (int k = 0; k < D; ++k) lo[k] *= 1.2, hi[k] *= 1.2;
-  CellList<D, TestSpace> cells(Grid<D>(lo, hi, kernel.radius()));
-  cells.build(x, n);
-  NeighborList<D, TestSpace> list;
-  list.build(CellSweep<D, TestSpace>(cells, x, kernel.radius()), x, n);
-  const auto ref = support_reference<D>(kernel, dx, rho0);
-  density_and_roles<D>(list.sweep(), kernel, x, m, kind, p, ClearWater{}, volume,
-                       surface_test<D>(scene, ref), rho, role, weight, truncation, n);
+  const PpeInputs<WendlandC2<D>> in(scene, WendlandC2<D>(scene.h_over_dx * scene.spacing), points,
+                                    init.kind, velocities, lo, hi);
+  const int n = in.n;
   auto walls = tank_walls<D>(scene);
   for (int k = 0; k < D; ++k) walls.lo[k] *= stretch, walls.hi[k] *= stretch;
-  const PressurePoisson<D, NeighborList<D, TestSpace>::Sweep, WendlandC2<D>, decltype(x),
-                        decltype(role)>
-      ppe{list.sweep(), kernel, x, role, volume, ref.laplacian, walls};
+  Kokkos::View<Real**, Mem> b("b", n, 1);
   const Real gam[max_rhs] = {gamma, gamma};
-  ppe.assemble(vstar, rho, weight, rho0, ref.rho, g, dt, gam, diag, b, n);
+  in.ppe(walls).assemble(in.vstar, in.rho, in.weight, in.rho0, in.ref.rho, g, dt, gam, in.diag, b, n);
   auto hb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b);
-  auto hr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), role);
-  auto hw = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), weight);
-  auto hrho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), rho);
+  auto hr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), in.role);
+  auto hw = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), in.weight);
+  auto hrho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), in.rho);
   for (int i = 0; i < n; ++i) {
     a.b.push_back(hb(i, 0));
     a.role.push_back(hr(i));
     a.weight.push_back(hw(i));
     a.rho.push_back(hrho(i));
   }
-  a.div_r_ref = ref.div_r;
-  a.rho_ref = ref.rho;
+  a.div_r_ref = in.ref.div_r;
+  a.rho_ref = in.ref.rho;
   return a;
 }
 
