@@ -1,11 +1,10 @@
 // dvisph command line: run, check, schema.
 #include "kernels/cubic_spline.hpp"
 #include "kernels/wendland_c2.hpp"
-#include "src/dem_run.hpp"
-#include "src/isph_run.hpp"
 #include "src/run.hpp"
 #include "src/scene.hpp"
 #include "src/schema.hpp"
+#include "src/simulation.hpp"
 
 #include <CLI/CLI.hpp>
 #include <Kokkos_Core.hpp>
@@ -18,21 +17,23 @@ namespace {
 
 enum Exit { ok = 0, failure = 1, bad_input = 2, numerical = 3 };
 
-// Builds the simulation the scene needs (a fluid scene runs no DEM code, a bead
-// scene no fluid code) and runs it.
+// Builds the simulation the scene needs (a water scene runs no DEM or coupling code, a
+// bead scene no fluid code) and runs it.
+template <int D, class Kernel>
+int dispatch_medium(const dvisph::Scene& s, const dvisph::RunOptions& opt) {
+  using namespace dvisph;
+  if (s.coupling) {
+    Simulation<D, Kernel, PorousMedium<D, Kokkos::DefaultExecutionSpace>> sim(s);
+    return run(sim, s, opt);
+  }
+  Simulation<D, Kernel, ClearWater> sim(s);
+  return run(sim, s, opt);
+}
 template <int D>
 int dispatch(const dvisph::Scene& s, const dvisph::RunOptions& opt) {
   using namespace dvisph;
-  if (s.fluid.empty()) {
-    DemRun<D> sim(s);
-    return run(sim, s, opt);
-  }
-  if (s.kernel == "cubic_spline") {
-    IsphRun<D, CubicSpline<D>> sim(s);
-    return run(sim, s, opt);
-  }
-  IsphRun<D, WendlandC2<D>> sim(s);
-  return run(sim, s, opt);
+  if (!s.fluid.empty() && s.kernel == "cubic_spline") return dispatch_medium<D, CubicSpline<D>>(s, opt);
+  return dispatch_medium<D, WendlandC2<D>>(s, opt);
 }
 
 }  // namespace

@@ -48,6 +48,7 @@ Real wall_penetration(const X& x, const KindV& kind, int n, const TankWalls<D>& 
 // The rule before (P >= 100 Pa and the solver's invariance weight > 0, so expanded
 // water whose weight had dropped to 0 went uncounted) is kept for one release as
 // `weighted_rule`, so that the change of figures is visible.
+// In a bed the reference is eps_i rho_ref (the medium's porosity).
 constexpr Real submerged_pressure = 100;  // Pa
 constexpr Real surface_truncation = 0.5;
 
@@ -65,9 +66,10 @@ class DensityError {
   static constexpr int per_decade = 100, decades = 6, bins = per_decade * decades;
   static constexpr Real smallest = 1e-6;
 
-  template <int D, class Sweep, class KindV, class Rho, class P, class Truncation>
+  template <int D, class Sweep, class KindV, class Rho, class P, class Truncation, class Medium = ClearWater>
   DensityErrorFigures paper_rule(const Sweep& sweep, const KindV& kind, const Rho& rho, const P& p,
-                                 const Truncation& truncation, Real rho_ref, int n) {
+                                 const Truncation& truncation, Real rho_ref, int n,
+                                 const Medium& medium = {}) {
     const auto err = scratch(n);
     Kokkos::parallel_for(
         "dvisph::metrics::density_error", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
@@ -77,20 +79,23 @@ class DensityError {
           sweep.for_each(i, row<D>(sweep.x, i), [&](int j, const Vec<D>&, Real) {
             if (kind(j) == Kind::fluid && truncation(j) >= surface_truncation) near_surface = true;
           });
-          if (!near_surface) err(i) = math::abs(rho(i) - rho_ref) / rho_ref;
+          const Real ref = rho_ref * medium.porosity(i);
+          if (!near_surface) err(i) = math::abs(rho(i) - ref) / ref;
         });
     return figures(n);
   }
 
-  template <class KindV, class Rho, class P, class Weight>
+  template <class KindV, class Rho, class P, class Weight, class Medium = ClearWater>
   DensityErrorFigures weighted_rule(const KindV& kind, const Rho& rho, const P& p,
-                                    const Weight& invariance, Real rho_ref, int n) {
+                                    const Weight& invariance, Real rho_ref, int n,
+                                    const Medium& medium = {}) {
     const auto err = scratch(n);
     Kokkos::parallel_for(
         "dvisph::metrics::density_error_weighted_rule", Kokkos::RangePolicy<Space>(0, n),
         KOKKOS_LAMBDA(int i) {
           const bool counted = kind(i) == Kind::fluid && invariance(i) > 0 && p(i, 0) >= submerged_pressure;
-          err(i) = counted ? math::abs(rho(i) - rho_ref) / rho_ref : -1;
+          const Real ref = rho_ref * medium.porosity(i);
+          err(i) = counted ? math::abs(rho(i) - ref) / ref : -1;
         });
     return figures(n);
   }

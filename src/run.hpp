@@ -1,5 +1,5 @@
 #pragma once
-// Runs a simulation (an IsphRun or a DemRun) through a scene: progress and ETA on a
+// Runs a simulation (simulation.hpp: water, beads or both) through a scene: progress and ETA on a
 // terminal, series.csv, HDF5 snapshots, checkpoints, summary.json. A run that fails
 // numerically saves its last good state before the error leaves.
 #include "src/backend.hpp"

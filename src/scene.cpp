@@ -316,22 +316,42 @@ void check_consistency(const Scene& s) {
                                  s.gate->x, s.tank.lo[0], s.tank.hi[0]));
   if (s.fluid.empty() && !s.solids)
     throw SceneError("nothing to simulate: give geometry.fluid, solids, or both");
-  if (!s.fluid.empty() && s.solids)
-    throw SceneError("geometry.fluid with solids: the fluid-solid coupling is not built yet; "
-                     "a scene holds fluid or beads");
   if (s.solids) check_solids(s);
+  if (s.coupling && (s.fluid.empty() || !s.solids))
+    throw SceneError("coupling: needs both geometry.fluid and solids");
+  if (s.coupling) {
+    const auto& c = *s.coupling;
+    if (!(c.porosity_min < 1))
+      throw SceneError(fmt::format("coupling.porosity_min = {:g}: must lie in (0, 1)", c.porosity_min));
+    const double h = s.h_over_dx * s.spacing;
+    const double hc = c.smoothing_length > 0 ? c.smoothing_length : h;
+    if (c.smoothing_length > 0 && c.smoothing_length < h)
+      throw SceneError(fmt::format("coupling.smoothing_length = {:g} m: below the fluid's h = "
+                                   "numerics.h_over_dx * geometry.spacing = {:g} m",
+                                   c.smoothing_length, h));
+    if (hc < 0.5 * s.solids->diameter)
+      throw SceneError(fmt::format("coupling.smoothing_length = {:g} m: below the bead radius "
+                                   "{:g} m (solids.diameter / 2)", hc, 0.5 * s.solids->diameter));
+    if (s.viscosity <= 0)
+      throw SceneError("material.kinematic_viscosity = 0: the drag of water on beads needs a "
+                       "viscous fluid (> 0)");
+  }
+  const bool coupled_metric = s.metrics_kind == "settling_bead" || s.metrics_kind == "bed_hydrostatic";
+  if (coupled_metric && !s.coupling)
+    throw SceneError(fmt::format("metrics.kind = {}: needs geometry.fluid and solids", s.metrics_kind));
   if (s.gravity.size() != static_cast<std::size_t>(s.dimension))
     throw SceneError(fmt::format("material.gravity: needs {} entries", s.dimension));
   const bool bead_metric = s.metrics_kind.rfind("bead_", 0) == 0;
   if (bead_metric && !s.solids)
     throw SceneError(fmt::format("metrics.kind = {}: needs a solids block", s.metrics_kind));
-  if (!bead_metric && s.metrics_kind != "none" && s.fluid.empty())
+  if (!bead_metric && !coupled_metric && s.metrics_kind != "none" && s.fluid.empty())
     throw SceneError(fmt::format("metrics.kind = {}: needs geometry.fluid", s.metrics_kind));
   if ((s.metrics_kind == "dam_break" || s.metrics_kind == "bead_collapse") && !(s.column_width > 0))
     throw SceneError(fmt::format("metrics.column_width: required (> 0 m) when metrics.kind = {}",
                                  s.metrics_kind));
-  if (s.metrics_kind == "hydrostatic" && !(s.water_height > 0))
-    throw SceneError("metrics.water_height: required (> 0 m) when metrics.kind = hydrostatic");
+  if ((s.metrics_kind == "hydrostatic" || s.metrics_kind == "bed_hydrostatic") && !(s.water_height > 0))
+    throw SceneError(fmt::format("metrics.water_height: required (> 0 m) when metrics.kind = {}",
+                                 s.metrics_kind));
   if (s.fluid.empty()) return;  // the rest concerns the fluid
   if (!(s.spacing > 0))
     throw SceneError("geometry.spacing: required (> 0 m) when geometry.fluid is given");
@@ -430,6 +450,14 @@ Scene parse_scene(const std::string& yaml_text, const std::vector<std::string>& 
                                          : std::vector<double>(dim, 0.0)});
     if (root["solids"]["bed"]) b.bed = r.text("solids.bed");
     s.solids = b;
+  }
+  if (!s.fluid.empty() && s.solids) {
+    s.coupling = Scene::Coupling{r.number("coupling.smoothing_length"),
+                                 r.number("coupling.porosity_min"),
+                                 r.number("coupling.switch_porosity"), r.text("coupling.drag"),
+                                 r.text("coupling.virtual_mass") == "van_gent"};
+  } else if (root["coupling"]) {
+    throw SceneError("coupling: needs both geometry.fluid and solids");
   }
   if (root["geometry"]["gate"])
     s.gate = Scene::Gate{r.number("geometry.gate.x"), r.number("geometry.gate.remove_at")};

@@ -48,6 +48,14 @@ struct Scene {
     std::string bed;  // checkpoint to start from ("" none)
   };
   std::optional<Solids> solids;
+  // water and beads together: the coupling block (defaults where it is absent)
+  struct Coupling {
+    double smoothing_length;  // h_c [m]; 0: the fluid's h
+    double porosity_min, switch_porosity;
+    std::string drag;
+    bool virtual_mass;
+  };
+  std::optional<Coupling> coupling;
 
   bool no_slip = true;
 

@@ -150,6 +150,29 @@ Field make_schema() {
               },
               "DEM beads (glass beads, method.md section 3); the tank walls and the gate "
               "are planes for them"),
+          map("coupling", false,
+              {
+                  number("smoothing_length", "m", "0", 0, inf,
+                         "h_c, the smoothing length of the kernel that spreads the beads over "
+                         "the water (porosity, solid velocity) and the water over the beads "
+                         "(forces); 0: the fluid's h. At least the bead radius; coupled codes "
+                         "find porosity noisy below an averaging volume of about three bead "
+                         "diameters"),
+                  number("porosity_min", "", "0.3", 0, 1,
+                         "smallest porosity a fluid particle takes (eps = max(eps_min, 1 - sum "
+                         "V_s W)); the beads' pressure share follows the clamped value, so "
+                         "momentum stays exact", true),
+                  choice("drag", "ergun_wen_yu", {"ergun_wen_yu", "di_felice"},
+                         "drag closure: Ergun below coupling.switch_porosity and Wen & Yu "
+                         "above (Gidaspow), or Di Felice (1994)"),
+                  number("switch_porosity", "", "0.8", 0, 1,
+                         "ergun_wen_yu: porosity eps_d at which the law switches from Ergun to "
+                         "Wen & Yu"),
+                  choice("virtual_mass", "van_gent", {"van_gent", "none"},
+                         "virtual-mass coefficient C_r = 1 + 0.34 (1 - eps) / eps (van Gent), "
+                         "or C_r = 1"),
+              },
+              "water and beads in one scene (method.md §2): how they exchange momentum"),
           map("boundary", false,
               {choice("slip", "no_slip", {"no_slip", "free_slip"},
                       "wall condition for the viscous term")},
@@ -219,13 +242,14 @@ Field make_schema() {
               {
                   choice("kind", "none",
                          {"none", "hydrostatic", "dam_break", "bead_drop", "bead_collision",
-                          "bead_slide", "bead_bed", "bead_collapse"},
+                          "bead_slide", "bead_bed", "bead_collapse", "settling_bead",
+                          "bed_hydrostatic"},
                          "scene-specific figures in summary.json"),
                   number("column_width", "m", "0", 0, inf,
                          "dam_break: width a of the initial water column (Z = z/a, "
                          "T = t sqrt(2 g / a))"),
                   number("water_height", "m", "0", 0, inf,
-                         "hydrostatic: still-water height H for P = rho g (H - y)"),
+                         "hydrostatic, bed_hydrostatic: still-water height H for P = rho g (H - y)"),
                   number("density_error_at", "s", "0", 0, inf,
                          "water: time at which the density error's p50, p95, p99 and max go "
                          "into summary.json and its histogram into density_error_histogram.csv "

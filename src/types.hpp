@@ -20,6 +20,9 @@ namespace kmath = ::Kokkos::Experimental;
 KOKKOS_INLINE_FUNCTION Real sqrt(Real x) { return kmath::sqrt(x); }
 KOKKOS_INLINE_FUNCTION Real floor(Real x) { return kmath::floor(x); }
 KOKKOS_INLINE_FUNCTION Real log(Real x) { return kmath::log(x); }
+KOKKOS_INLINE_FUNCTION Real log10(Real x) { return kmath::log10(x); }
+KOKKOS_INLINE_FUNCTION Real exp(Real x) { return kmath::exp(x); }
+KOKKOS_INLINE_FUNCTION Real pow(Real x, Real y) { return kmath::pow(x, y); }
 KOKKOS_INLINE_FUNCTION Real sin(Real x) { return kmath::sin(x); }
 KOKKOS_INLINE_FUNCTION Real cos(Real x) { return kmath::cos(x); }
 KOKKOS_INLINE_FUNCTION bool isfinite(Real x) { return kmath::isfinite(x); }

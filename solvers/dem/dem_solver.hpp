@@ -106,6 +106,22 @@ class DemSolver {
   Real time() const { return time_; }
   Real time_step() const { return dt_; }  // safety * contact time
   long list_builds() const { return list_builds_; }  // Verlet list builds so far
+  const Vec<D>& box_lo() const { return box_lo_; }
+  const Vec<D>& box_hi() const { return box_hi_; }
+  // The fastest bead's speed now [m/s].
+  Real max_speed() const {
+    const auto v = spheres_.v;
+    Real fastest = 0;
+    Kokkos::parallel_reduce(
+        "dvisph::dem::max_speed", Kokkos::RangePolicy<Space>(0, spheres_.n),
+        KOKKOS_LAMBDA(int i, Real& m) {
+          Real v2 = 0;
+          for (int k = 0; k < D; ++k) v2 += v(i, k) * v(i, k);
+          m = math::max(m, v2);
+        },
+        Kokkos::Max<Real>(fastest));
+    return std::sqrt(fastest);
+  }
   // Seconds spent in each stage of the steps so far (each fenced), in step order.
   static constexpr const char* stage_names[] = {"kick_drift", "contact_list", "contact_forces", "kick"};
   const std::array<double, 4>& stage_seconds() const { return stage_seconds_; }

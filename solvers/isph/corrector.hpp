@@ -1,6 +1,6 @@
 #pragma once
-// Velocity correction v = v* - dt (eps/C_r) (1/rho_bar) grad P = v* - dt / (C_r rho_f)
-// grad P (method.md §4, rho_bar = eps rho_f) with the symmetric gradient
+// Velocity correction v = v* - dt (eps/C_r) (1/rho_f) grad P (method.md §4; the fluid's
+// share of the pressure gradient is eps grad P, medium.hpp) with the symmetric gradient
 // grad P_i = sum_j V_j (P_i + P_j) grad W_ij (pair forces V_i V_j (P_i + P_j) grad W_ij,
 // equal and opposite), V_j = s_j V_ref from the medium (medium.hpp). Column `physical`
 // of P gives the velocity carried forward; column `transport` the velocity that moves
@@ -29,7 +29,10 @@ void corrector(const Sweep& sweep, const Kernel& kernel, const X& x, const VStar
             gb[k] += sj * (pb + p(j, transport)) * gw[k];
           }
         });
-        const Real s = dt * volume / rho0 * medium.inverse_virtual_mass(i);
+        Vec<D> grad;
+        for (int k = 0; k < D; ++k) grad[k] = volume * ga[k];
+        medium.keep_pressure_gradient(i, grad);
+        const Real s = dt * volume / rho0 * medium.mobility(i);
         for (int k = 0; k < D; ++k) {
           vt(i, k) = vstar(i, k) - s * gb[k];
           v(i, k) = vstar(i, k) - s * ga[k];
@@ -46,11 +49,12 @@ struct MoveReport {
   int bad = -1;
 };
 
-// x += dt vt for fluid particles, v the physical velocity (vt may be v); reports the
-// largest speed, the largest |vt - v| and any particle that is not finite or outside
-// [lo, hi]. (A functor with its own join: Kokkos 3.x has no multiple-reducer
+// x += dt vt / eps for fluid particles (the particles carry the superficial velocity
+// eps u_f; eps from the medium), v the physical velocity (vt may be v); reports the
+// largest speed u_f, the largest |vt - v| / eps and any particle that is not finite or
+// outside [lo, hi]. (A functor with its own join: Kokkos 3.x has no multiple-reducer
 // parallel_reduce.)
-template <int D, class Space, class X, class V, class KindV>
+template <int D, class Space, class X, class V, class KindV, class Medium>
 struct MoveParticles {
   struct value_type {
     Real max_speed2, max_difference2;
@@ -59,6 +63,7 @@ struct MoveParticles {
   X x;
   V v, vt;
   KindV kind;
+  Medium medium;
   Real dt;
   Vec<D> lo, hi;
   int n;
@@ -78,10 +83,12 @@ struct MoveParticles {
     if (kind(i) != Kind::fluid) return;
     Real v2 = 0, d2 = 0;
     bool ok = true;
+    const Real eps = medium.porosity(i);
     for (int k = 0; k < D; ++k) {
-      x(i, k) += dt * vt(i, k);
-      v2 += v(i, k) * v(i, k);
-      d2 += (vt(i, k) - v(i, k)) * (vt(i, k) - v(i, k));
+      const Real u = v(i, k) / eps, ut = vt(i, k) / eps;
+      x(i, k) += dt * ut;
+      v2 += u * u;
+      d2 += (ut - u) * (ut - u);
       ok = ok && math::isfinite(x(i, k)) && x(i, k) >= lo[k] && x(i, k) <= hi[k];
     }
     ok = ok && math::isfinite(v2) && math::isfinite(d2);

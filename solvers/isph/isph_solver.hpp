@@ -1,11 +1,14 @@
 #pragma once
 // Stabilized ISPH (method.md §4), selective dual-velocity where numerics.alpha and
-// numerics.beta differ, for clear water (the ClearWater medium: eps = 1, C_r = 1; the
-// kernels take a medium, medium.hpp). The solver owns the particles and the step; the
-// step is a list of stages assembled from the scene, so what a scene does not need
-// (viscosity, gate, a second pressure solve and the transport velocity's array) is
-// neither allocated nor run.
+// numerics.beta differ, for clear water (the ClearWater medium: eps = 1, C_r = 1) or
+// water with beads (PorousMedium: the kernels take a medium, medium.hpp; the beads' DEM
+// is advanced inside the step with the water's forces, coupling/bead_coupling.hpp).
+// The solver owns the particles and the step; the step is a list of stages assembled
+// from the scene, so what a scene does not need (viscosity, gate, a second pressure
+// solve and the transport velocity's array, the coupling) is neither allocated nor run.
 #include "kernels/summation_density.hpp"
+#include "solvers/coupling/bead_coupling.hpp"
+#include "solvers/dem/dem_solver.hpp"
 #include "solvers/isph/corrector.hpp"
 #include "solvers/isph/predictor.hpp"
 #include "solvers/isph/free_surface.hpp"
@@ -24,6 +27,7 @@
 #include <fmt/format.h>
 
 #include <functional>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -39,9 +43,12 @@ struct StepInfo {
   double transport_shift = 0;  // dt max|v_transport - v| [m] (0 when alpha = beta)
 };
 
-template <int D, class Kernel, class Space = Kokkos::DefaultExecutionSpace>
+template <int D, class Kernel, class Space = Kokkos::DefaultExecutionSpace, class Medium = ClearWater>
 class IsphSolver {
  public:
+  using kernel_type = Kernel;
+  using execution_space = Space;
+  using Beads = dem::DemSolver<D, Space>;
   using memory_space = typename Space::memory_space;
   using Sweep = typename NeighborList<D, Space>::Sweep;
   struct Stage {
@@ -50,8 +57,11 @@ class IsphSolver {
     double seconds = 0;
   };
 
-  explicit IsphSolver(const Scene& s)
+  // `beads`: the DEM of the scene's beads (a porous medium needs them; none for clear
+  // water), advanced by the step.
+  explicit IsphSolver(const Scene& s, Beads* beads = nullptr)
       : scene_(s),
+        beads_(beads),
         kernel_(s.h_over_dx * s.spacing),
         volume_(std::pow(s.spacing, D)),
         rho0_(s.density),
@@ -88,6 +98,7 @@ class IsphSolver {
     kind_scratch_ = Kokkos::View<Kind*, memory_space>("dvisph::sph::kind_scratch", n_);
     id_scratch_ = Kokkos::View<int*, memory_space>("dvisph::sph::id_scratch", n_);
     cells_ = CellList<D, Space>(Grid<D>(domain_lo_, domain_hi_, kernel_.radius()));
+    if constexpr (is_porous<Medium>) start_coupling();
     surface_test_ = lattice_reference();
     count_kinds();
     build_stages();
@@ -106,7 +117,7 @@ class IsphSolver {
     }
     info_.t += info_.dt;
     ++info_.step;
-    info_.dt = next_dt(info_.max_speed);
+    info_.dt = next_dt(std::max(info_.max_speed, bead_speed_));
     return info_;
   }
 
@@ -127,11 +138,17 @@ class IsphSolver {
   Real reference_density() const { return rho_ref_; }
   long pairs() const { return list_.pairs(); }
   const Kernel& kernel() const { return kernel_; }
+  const Medium& medium() const { return medium_; }
+  // the coupling with the beads (porous medium only)
+  const BeadCoupling<D, Kernel, Space>& coupling() const { return *coupling_; }
+  const Beads& beads() const { return *beads_; }
+  const CellList<D, Space>& cells() const { return cells_; }
   // Memory the solver holds in its memory space (the largest it has been), all arrays.
   std::size_t memory_bytes() const {
     return view_bytes(p_.x, p_.v, p_.m, p_.kind, p_.id, pressure_, rhs_, rho_, invariance_,
                       truncation_, diag_, role_, vstar_, vt_, kind_scratch_, id_scratch_) +
-           cells_.bytes() + wet_cells_.bytes() + list_.bytes() + matrix_.bytes() + cg_.bytes();
+           cells_.bytes() + wet_cells_.bytes() + list_.bytes() + matrix_.bytes() + cg_.bytes() +
+           coupling_bytes();
   }
   const Scene& scene() const { return scene_; }
 
@@ -183,6 +200,10 @@ class IsphSolver {
     if (scene_.gate) stages_.push_back({"gate", [this] { remove_gate_when_due(); }});
     if (reorder) stages_.push_back({"reorder", [this] { reorder_when_due(); }});
     stages_.push_back({"neighbors", [this] { find_neighbors(); }});
+    if constexpr (is_porous<Medium>)
+      stages_.push_back({"bead_fields", [this] {
+                           coupling_->fields(beads_->spheres(), p_.x, p_.v, p_.m, p_.kind, medium_, n_);
+                         }});
     stages_.push_back({"density_and_roles", [this] {
                          density_and_roles<D>(list_.sweep(), kernel_, p_.x, p_.m, p_.kind, pressure_,
                                               medium_, volume_, surface_test_, rho_, role_,
@@ -198,7 +219,12 @@ class IsphSolver {
                                       medium_, rho0_, volume_, info_.dt, 0, nrhs_ - 1, p_.v,
                                       transport_velocity(), n_);
                        }});
+    if constexpr (is_porous<Medium>)
+      stages_.push_back({"bead_forces", [this] {
+                           coupling_->forces(beads_->spheres(), cells_, p_.x, p_.m, p_.kind, medium_);
+                         }});
     stages_.push_back({"move", [this] { move(); }});
+    if constexpr (is_porous<Medium>) stages_.push_back({"beads", [this] { advance_beads(); }});
   }
 
   // Lists only for water and the walls near it (wet_cells.hpp).
@@ -209,7 +235,7 @@ class IsphSolver {
   }
 
   void solve_pressure() {
-    const PressurePoisson<D, Sweep, Kernel, decltype(p_.x), decltype(role_)> ppe{
+    const PressurePoisson<D, Sweep, Kernel, decltype(p_.x), decltype(role_), Medium> ppe{
         list_.sweep(), kernel_, p_.x, role_, volume_, full_diagonal_, walls_, medium_,
         scene_.ghost_air == "everywhere"};
     ppe.assemble(vstar_, rho_, invariance_, rho0_, rho_ref_, g_, info_.dt, gamma_, diag_, rhs_, n_);
@@ -233,8 +259,8 @@ class IsphSolver {
   }
 
   void move() {
-    const MoveParticles<D, Space, decltype(p_.x), decltype(p_.v), decltype(p_.kind)> mover{
-        p_.x, p_.v, transport_velocity(), p_.kind, info_.dt, domain_lo_, domain_hi_, n_};
+    const MoveParticles<D, Space, decltype(p_.x), decltype(p_.v), decltype(p_.kind), Medium> mover{
+        p_.x, p_.v, transport_velocity(), p_.kind, medium_, info_.dt, domain_lo_, domain_hi_, n_};
     const auto report = mover.run();
     info_.max_speed = report.max_speed;
     info_.transport_shift = info_.dt * report.max_transport_difference;
@@ -249,6 +275,38 @@ class IsphSolver {
           "step {}, t = {:.6g} s: fluid particle {} at ({}) m is not finite or has left the "
           "domain", info_.step, info_.t, id(), pos));
     }
+  }
+
+  // The beads over the fluid step, with the water's forces held (DEM sub-steps); the
+  // fastest bead joins the fluid's CFL limit.
+  void advance_beads() {
+    try {
+      beads_->advance(info_.dt);
+    } catch (const std::runtime_error& e) {
+      throw NumericalError(fmt::format("step {}, t = {:.6g} s: {}", info_.step, info_.t, e.what()));
+    }
+    bead_speed_ = beads_->max_speed();
+  }
+
+  // The porous medium's fields, the coupling, and the fluid particles' masses: a fluid
+  // particle starts with m = eps rho_f V_ref, so a lattice inside a bed starts at its
+  // reference density eps rho_f.
+  void start_coupling() {
+    if (!beads_) throw std::invalid_argument("IsphSolver: a porous medium needs beads");
+    const auto& c = *scene_.coupling;
+    medium_ = Medium(n_);
+    CouplingOptions o{c.smoothing_length > 0 ? c.smoothing_length : kernel_.h, c.porosity_min,
+                      D == 3 ? 1.0 : scene_.solids->diameter, rho0_, volume_};
+    coupling_.emplace(o, DragLaw(c.drag, rho0_, scene_.viscosity, scene_.solids->diameter,
+                                 c.switch_porosity),
+                      VanGentVirtualMass{c.virtual_mass}, beads_->box_lo(), beads_->box_hi());
+    coupling_->resize(n_);
+    coupling_->fields(beads_->spheres(), p_.x, p_.v, p_.m, p_.kind, medium_, n_);
+    scale_by_porosity<Space>(p_.m, medium_.eps, p_.kind, n_);
+  }
+  std::size_t coupling_bytes() const {
+    if constexpr (is_porous<Medium>) return medium_.bytes() + coupling_->bytes();
+    else return 0;
   }
 
   double next_dt(double max_speed) const {
@@ -321,7 +379,10 @@ class IsphSolver {
 
   Scene scene_;
   Kernel kernel_;
-  ClearWater medium_;
+  Beads* beads_ = nullptr;
+  double bead_speed_ = 0;  // the fastest bead after the step: it joins the CFL limit
+  Medium medium_;
+  std::optional<BeadCoupling<D, Kernel, Space>> coupling_;
   Real volume_, rho0_, rho_ref_ = 0;
   SurfaceTest<D> surface_test_;
   Real full_diagonal_ = 0;

@@ -1,16 +1,21 @@
 #pragma once
-// What a fluid particle's equations take from the solids around it (method.md §2 and
-// eq. 5): the porosity eps_i, which sets its reference density eps_i rho_f and its
-// volume V_i = m_i / (eps_i rho_f), and the virtual-mass coefficient C_r(eps_i). Every
-// ISPH kernel reads them through a medium, so one source serves clear water and beds:
-//   porosity(i)            eps_i
-//   volume_ratio(j)        V_j / V_ref, V_ref = dx^D the volume of a lattice particle
-//                          (every particle is made with mass rho_f V_ref)
-//   pair_coefficient(i, j) the PPE's symmetric pair coefficient, 2 / (C_r,i + C_r,j)
-//                          (the harmonic mean of 1 / C_r: the corrector moves particle
-//                          i by dt / (C_r,i rho_f) grad P, and a pair coefficient that
-//                          depends on i and j alike keeps the PPE matrix symmetric)
-//   inverse_virtual_mass(i) 1 / C_r,i
+// What a fluid particle's equations take from the solids around it (method.md §2, eq. 5,
+// docs/coupling.md): every ISPH kernel reads it through a medium, so one source serves
+// clear water and beds. The particles carry the superficial velocity v = eps u_f.
+//   porosity(i)             eps_i (1 for wall particles)
+//   volume_ratio(j)         V_j / V_ref, V_j = m_j / (eps_j rho_f), V_ref = dx^D
+//   inverse_virtual_mass(i) 1 / C_r,i: a fluid particle accelerates as if C_r times heavier
+//   mobility(i)             eps_i / C_r,i: the fluid's share of a pressure gradient is
+//                           eps grad P (the rest, (1 - eps) V grad P, is the beads'
+//                           buoyancy: coupling/bead_coupling.hpp), so
+//                           v = v* - dt mobility / rho_f grad P
+//   pair_coefficient(i, j)  the PPE's symmetric pair coefficient, the harmonic mean of the
+//                           two mobilities (one that depends on i and j alike keeps the
+//                           PPE matrix symmetric)
+//   predict(i, v, a, dt)    v* = v + dt a, a = (eps / C_r)(g + nu lap v); in a bed the drag
+//                           -beta (v/eps - v_s) per unit mass is added implicitly in v* and
+//                           the drag it gave is kept for the beads' reaction
+//   keep_pressure_gradient  the corrector's grad P_i, kept for the beads' buoyancy
 // Clear water is the medium whose values are the constants eps = 1, C_r = 1, so a
 // water-only scene holds and reads no such fields, and multiplying by them is exact:
 // clear-water results are bit-identical to a solver without media.
@@ -19,10 +24,70 @@
 namespace dvisph {
 
 struct ClearWater {
+  static constexpr bool porous = false;
   KOKKOS_INLINE_FUNCTION Real porosity(int) const { return 1; }
   KOKKOS_INLINE_FUNCTION Real volume_ratio(int) const { return 1; }
   KOKKOS_INLINE_FUNCTION Real pair_coefficient(int, int) const { return 1; }
   KOKKOS_INLINE_FUNCTION Real inverse_virtual_mass(int) const { return 1; }
+  KOKKOS_INLINE_FUNCTION Real mobility(int) const { return 1; }
+  template <int D>
+  KOKKOS_INLINE_FUNCTION Vec<D> predict(int, const Vec<D>& v, const Vec<D>& a, Real dt) const {
+    Vec<D> out;
+    for (int k = 0; k < D; ++k) out[k] = v[k] + dt * a[k];
+    return out;
+  }
+  template <int D>
+  KOKKOS_INLINE_FUNCTION void keep_pressure_gradient(int, const Vec<D>&) const {}
 };
+
+// A bed: the per-particle fields, filled each step by the coupling (bead_coupling.hpp)
+// before any kernel reads them.
+template <int D, class Space>
+struct PorousMedium {
+  static constexpr bool porous = true;
+  using memory_space = typename Space::memory_space;
+  Kokkos::View<Real*, memory_space> eps, ratio, inv_cr;
+  Kokkos::View<Real*, memory_space> beta;  // drag per unit mass over the slip [1/s]
+  Kokkos::View<Real* [D], memory_space> vs;          // solid velocity at the particle
+  Kokkos::View<Real* [D], memory_space> drag;        // drag per unit mass applied [m/s^2]
+  Kokkos::View<Real* [D], memory_space> grad_p;      // grad P of the physical pressure
+
+  PorousMedium() = default;
+  explicit PorousMedium(int n)
+      : eps("dvisph::medium::eps", n),
+        ratio("dvisph::medium::volume_ratio", n),
+        inv_cr("dvisph::medium::inverse_virtual_mass", n),
+        beta("dvisph::medium::drag_rate", n),
+        vs("dvisph::medium::solid_velocity", n),
+        drag("dvisph::medium::drag", n),
+        grad_p("dvisph::medium::grad_p", n) {}
+
+  KOKKOS_INLINE_FUNCTION Real porosity(int i) const { return eps(i); }
+  KOKKOS_INLINE_FUNCTION Real volume_ratio(int j) const { return ratio(j); }
+  KOKKOS_INLINE_FUNCTION Real inverse_virtual_mass(int i) const { return inv_cr(i); }
+  KOKKOS_INLINE_FUNCTION Real mobility(int i) const { return eps(i) * inv_cr(i); }
+  KOKKOS_INLINE_FUNCTION Real pair_coefficient(int i, int j) const {
+    const Real a = mobility(i), b = mobility(j);
+    return 2 * a * b / (a + b);
+  }
+  // v* (1 + dt beta / C_r) = v + dt a + dt (eps / C_r) beta v_s: the drag is implicit,
+  // so a stiff bed (beta dt >> 1) brings the water to the beads' velocity, not past it
+  KOKKOS_INLINE_FUNCTION Vec<D> predict(int i, const Vec<D>& v, const Vec<D>& a, Real dt) const {
+    const Real b = beta(i), e = eps(i), c = inv_cr(i);
+    Vec<D> out;
+    for (int k = 0; k < D; ++k) {
+      out[k] = (v[k] + dt * (a[k] + e * c * b * vs(i, k))) / (1 + dt * b * c);
+      drag(i, k) = -b * (out[k] / e - vs(i, k));
+    }
+    return out;
+  }
+  KOKKOS_INLINE_FUNCTION void keep_pressure_gradient(int i, const Vec<D>& g) const {
+    for (int k = 0; k < D; ++k) grad_p(i, k) = g[k];
+  }
+  std::size_t bytes() const { return view_bytes(eps, ratio, inv_cr, beta, vs, drag, grad_p); }
+};
+
+template <class Medium>
+inline constexpr bool is_porous = Medium::porous;
 
 }  // namespace dvisph

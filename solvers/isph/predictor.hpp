@@ -1,7 +1,7 @@
 #pragma once
-// Predictor v* = v + dt (eps/C_r) (g + nu lap v) for fluid particles (method.md §4;
-// eps and C_r and the volumes of the viscous sum from the medium, medium.hpp; the drag
-// F_r comes with the coupling). Wall particles get
+// Predictor v* = v + dt (eps/C_r) (g + nu lap v + F_r) for fluid particles (method.md §4;
+// eps, C_r, the volumes of the viscous sum and the drag F_r, implicit, from the medium,
+// medium.hpp). Wall particles get
 // v* = dt g: with the wall rows of the PPE (pressure_poisson.hpp) this is the
 // discrete form of the Neumann condition dP/dn = rho g.n, under which still water
 // is an exact steady state.
@@ -18,9 +18,15 @@ void predictor(const Sweep& sweep, const Kernel& kernel, const X& x, const V& v,
   if (nu == 0) {
     Kokkos::parallel_for(
         "dvisph::isph::predictor", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
-          const bool fluid = kind(i) == Kind::fluid;
-          const Real f = fluid ? medium.porosity(i) * medium.inverse_virtual_mass(i) : 1;
-          for (int k = 0; k < D; ++k) vstar(i, k) = (fluid ? v(i, k) : 0) + dt * (f * g[k]);
+          if (kind(i) != Kind::fluid) {
+            for (int k = 0; k < D; ++k) vstar(i, k) = dt * g[k];
+            return;
+          }
+          const Real f = medium.porosity(i) * medium.inverse_virtual_mass(i);
+          Vec<D> a;
+          for (int k = 0; k < D; ++k) a[k] = f * g[k];
+          const Vec<D> vs = medium.predict(i, row<D>(v, i), a, dt);
+          for (int k = 0; k < D; ++k) vstar(i, k) = vs[k];
         });
     return;
   }
@@ -39,7 +45,14 @@ void predictor(const Sweep& sweep, const Kernel& kernel, const X& x, const V& v,
           for (int k = 0; k < D; ++k) lap[k] += w * (vi[k] - (wall ? 0 : v(j, k)));
         });
         const Real f = medium.porosity(i) * medium.inverse_virtual_mass(i);
-        for (int k = 0; k < D; ++k) vstar(i, k) = vi[k] + dt * (f * (g[k] + nu * lap[k]));
+        Vec<D> a;
+        // nu_E = nu / eps (Shao 2010): the pair forces m_i m_j nu L_ij (v_i - v_j) /
+        // (eps_i eps_j rho_f) are then equal and opposite, so viscosity moves no momentum
+        // between a bed and clear water
+        const Real eps = medium.porosity(i);
+        for (int k = 0; k < D; ++k) a[k] = f * (g[k] + nu * lap[k] / eps);
+        const Vec<D> vs = medium.predict(i, vi, a, dt);
+        for (int k = 0; k < D; ++k) vstar(i, k) = vs[k];
       });
 }
 

@@ -1,8 +1,9 @@
 #pragma once
-// The ISPH solver as a run (src/run.hpp): what series.csv, the snapshots and
-// summary.json hold for a water scene, and the scene's own figures (hydrostatic
-// pressure, dam-break front against Martin & Moyce, density error).
+// What series.csv, the snapshots and summary.json hold for the water of a scene
+// (src/simulation.hpp composes it with the beads'), and the scene's own figures
+// (hydrostatic pressure, dam-break front against Martin & Moyce, density error).
 #include "solvers/isph/isph_solver.hpp"
+#include "src/snapshot_part.hpp"
 #include "src/metrics.hpp"
 #include "src/snapshot_writer.hpp"
 
@@ -10,18 +11,21 @@
 
 namespace dvisph {
 
-template <int D, class Kernel, class Space = Kokkos::DefaultExecutionSpace>
-class IsphRun {
+template <int D, class Solver>
+class FluidOutput {
  public:
-  explicit IsphRun(const Scene& s)
+  using Space = typename Solver::execution_space;
+  using Kernel = typename Solver::kernel_type;
+
+  FluidOutput(const Scene& s, const Solver& solver)
       : s_(s),
-        solver_(s),
+        solver_(solver),
         g_(std::abs(s.gravity[D - 1])),
         dam_break_(s.metrics_kind == "dam_break"),
         walls_(tank_walls<D>(s)) {}
 
-  void step() {
-    const StepInfo& info = solver_.step();
+  // after each step of the solver
+  void after_step(const StepInfo& info) {
     stepped_ = true;
     // alpha != beta: how far the transport velocity takes the particles off the physical
     // velocity's path in a step; beyond about 0.2 h the position correction is no longer
@@ -38,16 +42,6 @@ class IsphRun {
     pair_visits_ +=
         double(solver_.pairs()) * (info.cg_iterations + pair_sweeps_outside_cg(solver_.stages()));
   }
-  long step_count() const { return solver_.info().step; }
-  double time() const { return solver_.info().t; }
-  double dt() const { return solver_.info().dt; }
-  long particle_count() const { return solver_.size(); }
-  // the last good state is a copy of the whole state to the host: every step it cost
-  // six allocations and transfers a step on a GPU; every 10th leaves a failing run
-  // at most 10 steps to redo from last_good.h5
-  long steps_between_saves() const { return 10; }
-  std::string progress() const { return fmt::format("CG {:4d}", solver_.info().cg_iterations); }
-
   std::string series_header() const {
     return "cg_iterations,cg_residual,max_speed,front,max_density_error,density_error_p95";
   }
@@ -59,13 +53,14 @@ class IsphRun {
     if (stepped_) {
       const auto old = density_error_.weighted_rule(p.kind, solver_.density(), solver_.pressure(),
                                                     solver_.invariance(), solver_.reference_density(),
-                                                    solver_.size());
+                                                    solver_.size(), solver_.medium());
       worst_weighted_rule_.max = std::max(worst_weighted_rule_.max, old.max);
       worst_weighted_rule_.p95 = std::max(worst_weighted_rule_.p95, old.p95);
       // the paper's rule last: its histogram is the one density_error_ then holds
       derr = density_error_.template paper_rule<D>(solver_.neighbors(), p.kind, solver_.density(),
                                                    solver_.pressure(), solver_.truncation(),
-                                                   solver_.reference_density(), solver_.size());
+                                                   solver_.reference_density(), solver_.size(),
+                                                   solver_.medium());
       worst_.max = std::max(worst_.max, derr.max);
       worst_.p95 = std::max(worst_.p95, derr.p95);
       if (s_.density_error_at > 0 && at_.t < 0 && info.t >= s_.density_error_at - 1e-12)
@@ -81,7 +76,7 @@ class IsphRun {
                        info.max_speed, front, derr.max, derr.p95);
   }
 
-  void snapshot(SnapshotWriter& writer) const {
+  SnapshotPart snapshot() const {
     const auto& p = solver_.particles();
     const int n = solver_.size();
     auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.x);
@@ -106,11 +101,15 @@ class IsphRun {
       roles.values.push_back(static_cast<int>(role(i)));
       truncation.values.push_back(cut(i));
     }
-    writer.write(solver_.info().t, D, xs, {vel, pres, dens, ids, roles, truncation}, kinds);
+    std::vector<SnapshotField> fields{vel, pres, dens, ids, roles, truncation};
+    if constexpr (is_porous<std::decay_t<decltype(solver_.medium())>>) {
+      auto eps = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), solver_.medium().eps);
+      fields.push_back({"porosity", 1, std::vector<double>(eps.data(), eps.data() + n)});
+    }
+    return {xs, kinds, fields};
   }
 
   void save(Checkpoint& c) const {
-    solver_.save(c);
     c.set("isph_run/cg_total", static_cast<double>(cg_total_));
     c.set("isph_run/cg_max", cg_max_);
     c.set("isph_run/max_density_error", worst_.max);
@@ -132,7 +131,6 @@ class IsphRun {
     c.put("isph_run/front_Z", host_view(front_.Z));
   }
   void restore(const Checkpoint& c) {
-    solver_.restore(c);
     cg_total_ = static_cast<long>(c.number("isph_run/cg_total"));
     cg_max_ = static_cast<int>(c.number("isph_run/cg_max"));
     worst_.max = c.number("isph_run/max_density_error");
@@ -157,6 +155,11 @@ class IsphRun {
     }
   }
 
+  std::string particles() const {
+    return fmt::format("\"fluid\": {}, \"wall\": {}, \"gate\": {}", solver_.count(Kind::fluid),
+                       solver_.count(Kind::wall), solver_.count(Kind::gate));
+  }
+
   std::string summary() const {
     std::string stage_times;
     double step_seconds = 0;  // this process's steps, as pair_visits_
@@ -166,12 +169,11 @@ class IsphRun {
     }
     const long steps = std::max(1L, solver_.info().step);
     return fmt::format(
-        "  \"kernel\": \"{}\",\n  \"particles\": {{\"fluid\": {}, \"wall\": {}, \"gate\": {}}},\n"
+        "  \"kernel\": \"{}\",\n"
         "  \"pairs\": {},\n  \"pair_interactions_per_second\": {:.4g},\n  \"cg_iterations_mean\": {:.2f},\n"
         "  \"cg_iterations_max\": {},\n  \"stage_seconds\": {{{}}},\n"
         "  \"memory_bytes\": {},\n  \"memory_bytes_per_particle\": {:.0f},\n",
-        Kernel::name, solver_.count(Kind::fluid), solver_.count(Kind::wall),
-        solver_.count(Kind::gate), solver_.pairs(), pair_visits_ / std::max(step_seconds, 1e-30),
+        Kernel::name, solver_.pairs(), pair_visits_ / std::max(step_seconds, 1e-30),
         double(cg_total_) / steps, cg_max_, stage_times, solver_.memory_bytes(),
         double(solver_.memory_bytes()) / std::max(1, solver_.size()));
   }
@@ -237,7 +239,7 @@ class IsphRun {
   }
 
   Scene s_;
-  IsphSolver<D, Kernel, Space> solver_;
+  const Solver& solver_;
   double g_;
   bool dam_break_;
   FrontData front_;

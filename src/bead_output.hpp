@@ -1,11 +1,12 @@
 #pragma once
-// The DEM alone as a run (src/run.hpp), for scenes without fluid: one DEM step per
-// step. Figures by metrics.kind: bead_drop (rebound restitution), bead_collision
-// (momentum, restitution), bead_slide (rolling speed or stop distance), bead_bed
-// (packing fraction, bed height) and bead_collapse (bead front); energy throughout.
+// What series.csv, the snapshots and summary.json hold for the beads of a scene
+// (src/simulation.hpp composes it with the water's). Figures by metrics.kind: bead_drop
+// (rebound restitution), bead_collision (momentum, restitution), bead_slide (rolling
+// speed or stop distance), bead_bed (packing fraction, bed height) and bead_collapse
+// (bead front); energy throughout (without the water's work on the beads).
 #include "src/numerical_error.hpp"
 #include "src/scene_beads.hpp"
-#include "src/snapshot_writer.hpp"
+#include "src/snapshot_part.hpp"
 
 #include <fmt/format.h>
 
@@ -15,10 +16,11 @@
 namespace dvisph {
 
 template <int D, class Space = Kokkos::DefaultExecutionSpace>
-class DemRun {
+class BeadOutput {
  public:
-  explicit DemRun(const Scene& s)
-      : s_(s), dem_(scene_dem<D, Space>(s)), g_(std::abs(s.gravity[D - 1])) {
+  // `with_water`: the series columns get a bead_ prefix, the stage times their own key
+  BeadOutput(const Scene& s, const dem::DemSolver<D, Space>& dem, bool with_water)
+      : s_(s), dem_(dem), g_(std::abs(s.gravity[D - 1])), prefix_(with_water ? "bead_" : "") {
     const bool few = s.metrics_kind == "bead_drop" || s.metrics_kind == "bead_collision" ||
                      s.metrics_kind == "bead_slide";
     if (few && dem_.spheres().n > 2)
@@ -37,24 +39,19 @@ class DemRun {
     energy0_ = last_energy_ = dem_.energy().total();
   }
 
-  void step() {
-    try {
-      dem_.step(dem_.time_step());
-    } catch (const std::runtime_error& e) {
-      throw NumericalError(fmt::format("step {}, t = {:.6g} s: {}", step_ + 1, time(), e.what()));
-    }
+  long steps() const { return step_; }
+  // after each step of the DEM or the water
+  void after_step() {
     ++step_;
     if (watch_) follow();
   }
-  long step_count() const { return step_; }
-  double time() const { return dem_.time(); }
-  double dt() const { return dem_.time_step(); }
-  long particle_count() const { return dem_.spheres().n; }
-  // a DEM step is cheap next to a copy of the whole state
-  long steps_between_saves() const { return 100; }
-  std::string progress() const { return fmt::format("{} beads", dem_.spheres().n); }
 
-  std::string series_header() const { return "kinetic_energy,total_energy,max_speed,front,bed_top"; }
+  std::string series_header() const {
+    std::string h;
+    for (const char* c : {"kinetic_energy", "total_energy", "max_speed", "front"})
+      h += (h.empty() ? "" : ",") + prefix_ + c;
+    return h + ",bed_top";
+  }
   std::string series_row() {
     const dem::Energy e = dem_.energy();
     if (step_ > 0) energy_rise_ = std::max(energy_rise_, e.total() - last_energy_);
@@ -75,14 +72,14 @@ class DemRun {
         Kokkos::Max<Real>(speed), Kokkos::Max<Real>(front), Kokkos::Max<Real>(top));
     front -= s_.tank.lo[0];
     if (s_.metrics_kind == "bead_collapse") {
-      collapse_T_ = time() * std::sqrt(2 * g_ / s_.column_width);
+      collapse_T_ = dem_.time() * std::sqrt(2 * g_ / s_.column_width);
       collapse_Z_ = front / s_.column_width;
     }
     return fmt::format("{:.9g},{:.9g},{:.6g},{:.6g},{:.6g}", e.kinetic, e.total(), speed, front,
                        top - s_.tank.lo[D - 1]);
   }
 
-  void snapshot(SnapshotWriter& writer) const {
+  SnapshotPart snapshot() const {
     const auto& sp = dem_.spheres();
     auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.x);
     auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.v);
@@ -101,12 +98,10 @@ class DemRun {
       radius.values.push_back(r(i));
       ids.values.push_back(id(i));
     }
-    writer.write(time(), D, xs, {vel, omega, radius, ids},
-                 std::vector<int>(n, static_cast<int>(Kind::solid)));
+    return {xs, std::vector<int>(n, static_cast<int>(Kind::solid)), {vel, omega, radius, ids}};
   }
 
   void save(Checkpoint& c) const {
-    dem_.save(c);
     c.set("dem_run/step", static_cast<double>(step_));
     c.set("dem_run/energy_rise", energy_rise_);
     c.set("dem_run/last_energy", last_energy_);
@@ -118,7 +113,6 @@ class DemRun {
     c.set("dem_run/stopped_at", stopped_at_);
   }
   void restore(const Checkpoint& c) {
-    dem_.restore(c);
     step_ = static_cast<long>(c.number("dem_run/step"));
     energy_rise_ = c.number("dem_run/energy_rise");
     last_energy_ = c.number("dem_run/last_energy");
@@ -138,15 +132,15 @@ class DemRun {
     return t;
   }
 
-  void write_files(const std::string&) const {}  // none besides the driver's
+  std::string particles() const { return fmt::format("\"solid\": {}", dem_.spheres().n); }
 
   std::string summary() const {
     const auto& b = *s_.solids;
     return fmt::format(
-        "  \"particles\": {{\"solid\": {}}},\n  \"dem\": {{\"dt\": {:.6g}, \"contact_time\": {:.6g}, "
-        "\"contacts_per_bead\": {:.3f}, \"list_builds\": {}}},\n  \"stage_seconds\": {{{}}},\n",
-        dem_.spheres().n, dem_.time_step(), dem_.time_step() / b.dt_safety, dem_.contacts_per_bead(),
-        dem_.list_builds(), stage_times());
+        "  \"dem\": {{\"dt\": {:.6g}, \"contact_time\": {:.6g}, \"contacts_per_bead\": {:.3f}, "
+        "\"list_builds\": {}}},\n  \"{}stage_seconds\": {{{}}},\n",
+        dem_.time_step(), dem_.time_step() / b.dt_safety, dem_.contacts_per_bead(),
+        dem_.list_builds(), prefix_.empty() ? "" : "dem_", stage_times());
   }
 
   std::string metrics() const {
@@ -216,12 +210,12 @@ class DemRun {
     const auto b = beads();
     const Real gap = b.x[0][D - 1] - 0.5 * s_.solids->diameter - s_.tank.lo[D - 1];
     if (s_.metrics_kind == "bead_drop") {
-      if (contact_ == 0 && gap < 0) contact_ = 1, t_in_ = time();
+      if (contact_ == 0 && gap < 0) contact_ = 1, t_in_ = dem_.time();
       else if (contact_ == 0) v_in_ = -b.v[0][D - 1];
-      else if (contact_ == 1 && gap >= 0) contact_ = 2, t_out_ = time(), v_out_ = b.v[0][D - 1];
+      else if (contact_ == 1 && gap >= 0) contact_ = 2, t_out_ = dem_.time(), v_out_ = b.v[0][D - 1];
     }
     if (s_.metrics_kind == "bead_slide" && stopped_at_ < 0 && dot(b.v[0], b.v[0]) < 1e-12)
-      stopped_at_ = time();
+      stopped_at_ = dem_.time();
   }
 
   // Packing fraction in the core of the bed (two diameters from the side walls, the
@@ -266,8 +260,9 @@ class DemRun {
   }
 
   Scene s_;
-  dem::DemSolver<D, Space> dem_;
+  const dem::DemSolver<D, Space>& dem_;
   Real g_;
+  std::string prefix_;
   long step_ = 0;
   bool watch_ = false;
   Real energy0_ = 0, last_energy_ = 0, energy_rise_ = 0;

@@ -1,0 +1,137 @@
+#pragma once
+// Two-way coupling of the water (ISPH) and the beads (DEM), method.md §2-§3,
+// docs/coupling.md. Two pair loops between the particle sets, both the one neighbour
+// primitive (CellSweep) with the coupling kernel W(r, h_c):
+//  - at fluid particles, over the beads (fields): solid fraction S_i = sum_s V_s W_is,
+//    porosity eps_i = max(eps_min, 1 - S_i), solid velocity v_s,i (the V_s W_is-weighted
+//    mean), C_r(eps_i), the volume ratio m_i / (eps_i rho_f V_ref) and the drag rate
+//    beta_i = K(eps_i, |u_i - v_s,i|) / (eps_i rho_f) of the drag law, at the step's
+//    start velocity; they fill the porous medium (solvers/isph/medium.hpp);
+//  - at beads, over the fluid particles (forces): what each fluid particle i gives the
+//    beads, E_i = (1 - eps_i) V_i grad P_i (the beads' buoyancy: the water keeps only
+//    eps_i of its pressure force) + m_i drag_i (the reaction of the drag the predictor
+//    applied), split among the beads by V_s W_is / S_i. The split sums to 1 over the
+//    beads, so what the water gains the beads lose, to round-off.
+// In 2D a bead is a sphere in a slab one diameter deep: V_s is its volume over that depth
+// and the force per unit depth times the depth is the bead's force.
+#include "solvers/coupling/drag_law.hpp"
+#include "solvers/coupling/virtual_mass.hpp"
+#include "solvers/dem/spheres.hpp"
+#include "solvers/isph/medium.hpp"
+#include "src/neighbor_sweep.hpp"
+
+namespace dvisph {
+
+struct CouplingOptions {
+  Real smoothing_length;  // h_c
+  Real porosity_min;      // eps_min
+  Real depth;             // 2D: the slab depth of a bead [m]; 3D: 1
+  Real rho_f, volume;     // fluid density, V_ref = dx^D
+};
+
+template <int D, class Kernel, class Space>
+class BeadCoupling {
+ public:
+  using memory_space = typename Space::memory_space;
+
+  BeadCoupling(const CouplingOptions& o, const DragLaw& drag, VanGentVirtualMass cr,
+               const Vec<D>& bead_lo, const Vec<D>& bead_hi)
+      : options_(o), kernel_(o.smoothing_length), drag_(drag), cr_(cr),
+        cells_(Grid<D>(bead_lo, bead_hi, kernel_.radius())) {}
+
+  const Kernel& kernel() const { return kernel_; }
+  const CouplingOptions& options() const { return options_; }
+
+  // The medium's fields at the first n SPH particles (fluid ones; walls get clear water).
+  template <class X, class V, class M, class KindV>
+  void fields(const dem::Spheres<D, Space>& beads, const X& x, const V& v, const M& m,
+              const KindV& kind, const PorousMedium<D, Space>& medium, int n) {
+    cells_.build(beads.x, beads.n);
+    const CellSweep<D, Space> sweep(cells_, beads.x, kernel_.radius());
+    const auto kernel = kernel_;
+    const auto drag = drag_;
+    const auto cr = cr_;
+    const auto o = options_;
+    const auto bx = beads.v, radius = beads.radius;
+    const auto solid_out = solid_;
+    const Real third = 4.0 / 3.0 * math::pi / o.depth;
+    Kokkos::parallel_for(
+        "dvisph::coupling::fields", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
+          Real solid = 0;
+          Vec<D> vs = Vec<D>::zero();
+          if (kind(i) == Kind::fluid)
+            sweep.for_each(i, row<D>(x, i), [&](int s, const Vec<D>&, Real r) {
+              const Real w = third * radius(s) * radius(s) * radius(s) * kernel.W(r);
+              solid += w;
+              for (int k = 0; k < D; ++k) vs[k] += w * bx(s, k);
+            });
+          const Real eps = math::max(o.porosity_min, 1 - solid);
+          Real slip2 = 0;
+          for (int k = 0; k < D; ++k) {
+            vs[k] = solid > 0 ? vs[k] / solid : 0;
+            const Real u = v(i, k) / eps - vs[k];
+            slip2 += u * u;
+            medium.vs(i, k) = vs[k];
+            medium.drag(i, k) = 0;
+            medium.grad_p(i, k) = 0;
+          }
+          medium.eps(i) = eps;
+          medium.inv_cr(i) = 1 / cr(eps);
+          medium.ratio(i) = kind(i) == Kind::fluid ? m(i) / (eps * o.rho_f * o.volume) : 1;
+          medium.beta(i) = solid > 0 ? drag(eps, math::sqrt(slip2)) / (eps * o.rho_f) : 0;
+          solid_out(i) = solid;
+        });
+  }
+
+  // Forces from the water on each bead (into beads.f_ext), from the fields of this
+  // step's medium; `fluid_cells` bins the SPH particles x.
+  template <class X, class M, class KindV>
+  void forces(const dem::Spheres<D, Space>& beads, const CellList<D, Space>& fluid_cells,
+              const X& x, const M& m, const KindV& kind, const PorousMedium<D, Space>& medium) {
+    const CellSweep<D, Space> sweep(fluid_cells, x, kernel_.radius());
+    const auto kernel = kernel_;
+    const auto o = options_;
+    const auto solid = solid_;
+    const auto bx = beads.x, radius = beads.radius, f = beads.f_ext;
+    const Real third = 4.0 / 3.0 * math::pi / o.depth;
+    Kokkos::parallel_for(
+        "dvisph::coupling::forces", Kokkos::RangePolicy<Space>(0, beads.n), KOKKOS_LAMBDA(int s) {
+          const Real vol = third * radius(s) * radius(s) * radius(s);
+          Vec<D> sum = Vec<D>::zero();
+          sweep.for_each(s, row<D>(bx, s), [&](int i, const Vec<D>&, Real r) {
+            if (kind(i) != Kind::fluid || !(solid(i) > 0)) return;
+            const Real share = vol * kernel.W(r) / solid(i);
+            const Real buoyant = (1 - medium.eps(i)) * o.volume * medium.ratio(i);
+            for (int k = 0; k < D; ++k)
+              sum[k] += share * (buoyant * medium.grad_p(i, k) + m(i) * medium.drag(i, k));
+          });
+          for (int k = 0; k < D; ++k) f(s, k) = -o.depth * sum[k];
+        });
+  }
+
+  void resize(int n) {
+    if (static_cast<int>(solid_.extent(0)) < n)
+      solid_ = Kokkos::View<Real*, memory_space>("dvisph::coupling::solid_fraction", n);
+  }
+  Kokkos::View<const Real*, memory_space> solid_fraction() const { return solid_; }
+  std::size_t bytes() const { return cells_.bytes() + view_bytes(solid_); }
+
+ private:
+  CouplingOptions options_;
+  Kernel kernel_;
+  DragLaw drag_;
+  VanGentVirtualMass cr_;
+  CellList<D, Space> cells_;
+  Kokkos::View<Real*, memory_space> solid_;
+};
+
+// m_i *= eps_i for fluid particles (their start: a lattice inside a bed at eps rho_f).
+template <class Space, class M, class Eps, class KindV>
+void scale_by_porosity(const M& m, const Eps& eps, const KindV& kind, int n) {
+  Kokkos::parallel_for(
+      "dvisph::coupling::scale_by_porosity", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
+        if (kind(i) == Kind::fluid) m(i) *= eps(i);
+      });
+}
+
+}  // namespace dvisph

@@ -1,0 +1,141 @@
+// Water and beads: the drag closures against their published forms, and the exchange
+// of momentum between the water and the beads in a step.
+#include "kernels/wendland_c2.hpp"
+#include "solvers/isph/isph_solver.hpp"
+#include "src/scene.hpp"
+#include "src/scene_beads.hpp"
+#include "test_space.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <vector>
+
+using namespace dvisph;
+
+namespace {
+
+constexpr double rho = 1000, nu = 1e-6, d = 0.0027;
+
+}  // namespace
+
+TEST_CASE("coupling: Ergun's pressure gradient through a fixed bed (method.md §2)", "[coupling]") {
+  // steady flow through a fixed bed: eps grad P balances the drag K u, u = q / eps
+  const DragLaw law("ergun_wen_yu", rho, nu, d, 0.8);
+  const double eps = 0.4;
+  const double q[3] = {1e-3, 1e-2, 5e-2}, expected[3] = {122, 1765, 20978};  // Pa/m
+  for (int k = 0; k < 3; ++k) {
+    const double u = q[k] / eps;
+    const double exact = 150 * rho * nu * std::pow(1 - eps, 2) * q[k] / (std::pow(eps, 3) * d * d) +
+                         1.75 * rho * (1 - eps) * q[k] * q[k] / (std::pow(eps, 3) * d);
+    CHECK(law(eps, u) * u / eps == Approx(exact).epsilon(1e-12));
+    CHECK(law(eps, u) * u / eps == Approx(expected[k]).epsilon(2e-3));  // method.md's rounding
+  }
+}
+
+TEST_CASE("coupling: one bead in clear water gets its single-sphere drag", "[coupling]") {
+  // K u V_s / (1 - eps) = C_d pi d^2 / 8 rho u^2 eps^-exponent, Re = eps rho u d / mu
+  const double eps = 0.999, u = 0.3, vs = math::pi / 6 * d * d * d;
+  const double re = eps * u * d / nu;
+  const DragLaw wen_yu("ergun_wen_yu", rho, nu, d, 0.8), di_felice("di_felice", rho, nu, d, 0.8);
+  const double cd_sn = 24 / re * (1 + 0.15 * std::pow(re, 0.687));
+  CHECK(wen_yu(eps, u) * u * vs / (1 - eps) ==
+        Approx(cd_sn * math::pi * d * d / 8 * rho * u * u * std::pow(eps, -1.65)).epsilon(1e-12));
+  const double cd_df = std::pow(0.63 + 4.8 / std::sqrt(re), 2);
+  const double chi = 3.7 - 0.65 * std::exp(-0.5 * std::pow(1.5 - std::log10(re), 2));
+  CHECK(di_felice(eps, u) * u * vs / (1 - eps) ==
+        Approx(cd_df * math::pi * d * d / 8 * rho * eps * eps * u * u * std::pow(eps, -chi)).epsilon(1e-12));
+  // the choice is real: Di Felice drags a 2.7 mm bead at 0.3 m/s harder
+  CHECK(di_felice(eps, u) > 1.1 * wen_yu(eps, u));
+}
+
+namespace {
+
+// A ball of water falling freely (no wall within reach) with beads moving through it.
+const char* blob = R"(
+name: blob
+dimension: 3
+end_time: 1
+material: {kinematic_viscosity: 1.0e-6}
+geometry:
+  spacing: 0.002
+  tank: {lo: [0, 0, 0], hi: [0.05, 0.05, 0.05]}
+  fluid: [{lo: [0.015, 0.015, 0.015], hi: [0.035, 0.035, 0.035]}]
+solids:
+  diameter: 0.0027
+  beads:
+    - {position: [0.025, 0.025, 0.025], velocity: [0.1, 0, -0.2]}
+    - {position: [0.0255, 0.022, 0.0285], velocity: [0, 0.05, 0]}
+    - {position: [0.02, 0.028, 0.02], velocity: [-0.1, 0.1, 0.3]}
+numerics: {reorder_every: 0, dt_max: 5.0e-4}
+)";
+
+// a host copy that is a copy also where the view already lives on the host
+template <class V>
+auto snapshot_of(const V& v) {
+  auto h = Kokkos::create_mirror(Kokkos::HostSpace(), v);
+  Kokkos::deep_copy(h, v);
+  return h;
+}
+
+struct Momentum {
+  double p[3] = {0, 0, 0};
+  double scale = 0;  // sum of |m dv| over particles and axes
+};
+
+}  // namespace
+
+TEST_CASE("coupling: water and beads exchange momentum exactly", "[coupling]") {
+  using Solver = IsphSolver<3, WendlandC2<3>, TestSpace, PorousMedium<3, TestSpace>>;
+  const Scene s = parse_scene(blob);
+  auto beads = scene_dem<3, TestSpace>(s);
+  Solver solver(s, &beads);
+  for (int step = 0; step < 5; ++step) {
+    const int n = solver.size();
+    const auto& p = solver.particles();
+    const auto v0 = snapshot_of(p.v);
+    const auto w0 = snapshot_of(beads.spheres().v);
+    const auto id0 = snapshot_of(beads.spheres().id);
+    const double dt = solver.info().dt;
+    solver.step();
+    const auto v1 = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.v);
+    const auto m = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.m);
+    const auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.kind);
+    const auto eps = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), solver.medium().eps);
+    const auto icr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), solver.medium().inv_cr);
+    const auto w1 = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), beads.spheres().v);
+    const auto id1 = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), beads.spheres().id);
+    const auto mb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), beads.spheres().mass);
+    // the momentum of a fluid particle in its step is C_r m u_f = C_r m v / eps
+    Momentum change;
+    double mass = 0, ball_in_bed = 1;
+    for (int i = 0; i < n; ++i) {
+      if (kind(i) != Kind::fluid) continue;
+      mass += m(i);
+      ball_in_bed = std::min(ball_in_bed, eps(i));
+      for (int k = 0; k < 3; ++k) {
+        const double dp = m(i) / (icr(i) * eps(i)) * (v1(i, k) - v0(i, k));
+        change.p[k] += dp;
+        change.scale += std::abs(dp);
+      }
+    }
+    std::vector<double> before(3 * beads.spheres().n);
+    for (int b = 0; b < beads.spheres().n; ++b)
+      for (int k = 0; k < 3; ++k) before[3 * id0(b) + k] = w0(b, k);
+    for (int b = 0; b < beads.spheres().n; ++b) {
+      mass += mb(b);
+      for (int k = 0; k < 3; ++k) {
+        const double dp = mb(b) * (w1(b, k) - before[3 * id1(b) + k]);
+        change.p[k] += dp;
+        change.scale += std::abs(dp);
+      }
+    }
+    REQUIRE(ball_in_bed < 0.95);  // the beads are in the water
+    // only gravity changes the total: m g dt
+    for (int k = 0; k < 3; ++k) {
+      INFO("step " << step << " axis " << k << ": change " << change.p[k] << ", gravity "
+                   << mass * s.gravity[k] * dt << ", scale " << change.scale);
+      CHECK(std::abs(change.p[k] - mass * s.gravity[k] * dt) < 1e-10 * change.scale);
+    }
+  }
+}
