@@ -2,7 +2,7 @@
 // Two-way coupling of the water (ISPH) and the beads (DEM), method.md §2-§3,
 // docs/coupling.md. Two pair loops between the particle sets, both the one neighbour
 // primitive (CellSweep) with the coupling kernel W(r, h_c):
-//  - at fluid particles, over the beads (fields): solid fraction S_i = sum_s V_s W_is,
+//  - at SPH particles, over the beads (fields; walls take only eps and C_r): solid fraction S_i = sum_s V_s W_is,
 //    porosity eps_i = max(eps_min, 1 - S_i), solid velocity v_s,i (the V_s W_is-weighted
 //    mean), C_r(eps_i), the volume ratio m_i / (eps_i rho_f V_ref) and the drag rate
 //    beta_i = K(eps_i, |u_i - v_s,i|) / (eps_i rho_f) of the drag law, at the step's
@@ -11,7 +11,8 @@
 //    beads, E_i = (1 - eps_i) V_i grad P_i (the beads' buoyancy: the water keeps only
 //    eps_i of its pressure force) + m_i drag_i (the reaction of the drag the predictor
 //    applied), split among the beads by V_s W_is / S_i. The split sums to 1 over the
-//    beads, so what the water gains the beads lose, to round-off.
+//    beads, so what the water gains the beads lose, to round-off. Wet wall particles
+//    give (1 - eps_j) V_ref rho_f g, their hydrostatic share (momentum from the walls).
 // In 2D a bead is a sphere in a slab one diameter deep: V_s is its volume over that depth
 // and the force per unit depth times the depth is the bead's force.
 #include "solvers/coupling/drag_law.hpp"
@@ -22,11 +23,13 @@
 
 namespace dvisph {
 
+template <int D>
 struct CouplingOptions {
   Real smoothing_length;  // h_c
   Real porosity_min;      // eps_min
   Real depth;             // 2D: the slab depth of a bead [m]; 3D: 1
   Real rho_f, volume;     // fluid density, V_ref = dx^D
+  Vec<D> g;               // gravity: the wall's pressure gradient rho_f g (hydrostatic)
 };
 
 template <int D, class Kernel, class Space>
@@ -34,13 +37,13 @@ class BeadCoupling {
  public:
   using memory_space = typename Space::memory_space;
 
-  BeadCoupling(const CouplingOptions& o, const DragLaw& drag, VanGentVirtualMass cr,
+  BeadCoupling(const CouplingOptions<D>& o, const DragLaw& drag, VanGentVirtualMass cr,
                const Vec<D>& bead_lo, const Vec<D>& bead_hi)
       : options_(o), kernel_(o.smoothing_length), drag_(drag), cr_(cr),
         cells_(Grid<D>(bead_lo, bead_hi, kernel_.radius())) {}
 
   const Kernel& kernel() const { return kernel_; }
-  const CouplingOptions& options() const { return options_; }
+  const CouplingOptions<D>& options() const { return options_; }
 
   // The medium's fields at the first n SPH particles (fluid ones; walls get clear water).
   template <class X, class V, class M, class KindV>
@@ -59,8 +62,10 @@ class BeadCoupling {
         "dvisph::coupling::fields", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
           Real solid = 0;
           Vec<D> vs = Vec<D>::zero();
-          if (kind(i) == Kind::fluid)
-            sweep.for_each(i, row<D>(x, i), [&](int s, const Vec<D>&, Real r) {
+          // walls get the porosity of the bed beside them too: the wall condition of
+          // the PPE continues the water's pressure with the water's mobility
+          const bool fluid = kind(i) == Kind::fluid;
+          sweep.for_each(i, row<D>(x, i), [&](int s, const Vec<D>&, Real r) {
               const Real w = third * radius(s) * radius(s) * radius(s) * kernel.W(r);
               solid += w;
               for (int k = 0; k < D; ++k) vs[k] += w * bx(s, k);
@@ -77,17 +82,24 @@ class BeadCoupling {
           }
           medium.eps(i) = eps;
           medium.inv_cr(i) = 1 / cr(eps);
-          medium.ratio(i) = kind(i) == Kind::fluid ? m(i) / (eps * o.rho_f * o.volume) : 1;
-          medium.beta(i) = solid > 0 ? drag(eps, math::sqrt(slip2)) / (eps * o.rho_f) : 0;
+          medium.ratio(i) = fluid ? m(i) / (eps * o.rho_f * o.volume) : 1;
+          medium.beta(i) = fluid && solid > 0 ? drag(eps, math::sqrt(slip2)) / (eps * o.rho_f) : 0;
+          if (!fluid)
+            for (int k = 0; k < D; ++k) medium.grad_p(i, k) = o.rho_f * o.g[k];
           solid_out(i) = solid;
         });
   }
 
   // Forces from the water on each bead (into beads.f_ext), from the fields of this
   // step's medium; `fluid_cells` bins the SPH particles x.
-  template <class X, class M, class KindV>
+  // Wet walls (role `wet(j)`) take their share too, with the hydrostatic gradient their
+  // wall condition continues: a bead beside a wall or on the floor gets its whole
+  // buoyancy, the walls' part of it from the walls (measured: without it the beads of
+  // bed_hydrostatic got 82 % of their buoyancy).
+  template <class X, class M, class KindV, class Wet>
   void forces(const dem::Spheres<D, Space>& beads, const CellList<D, Space>& fluid_cells,
-              const X& x, const M& m, const KindV& kind, const PorousMedium<D, Space>& medium) {
+              const X& x, const M& m, const KindV& kind, const Wet& wet,
+              const PorousMedium<D, Space>& medium) {
     const CellSweep<D, Space> sweep(fluid_cells, x, kernel_.radius());
     const auto kernel = kernel_;
     const auto o = options_;
@@ -99,11 +111,12 @@ class BeadCoupling {
           const Real vol = third * radius(s) * radius(s) * radius(s);
           Vec<D> sum = Vec<D>::zero();
           sweep.for_each(s, row<D>(bx, s), [&](int i, const Vec<D>&, Real r) {
-            if (kind(i) != Kind::fluid || !(solid(i) > 0)) return;
+            if (!wet(i) || !(solid(i) > 0)) return;
+            const bool fluid = kind(i) == Kind::fluid;
             const Real share = vol * kernel.W(r) / solid(i);
             const Real buoyant = (1 - medium.eps(i)) * o.volume * medium.ratio(i);
             for (int k = 0; k < D; ++k)
-              sum[k] += share * (buoyant * medium.grad_p(i, k) + m(i) * medium.drag(i, k));
+              sum[k] += share * (buoyant * medium.grad_p(i, k) + (fluid ? m(i) * medium.drag(i, k) : 0));
           });
           for (int k = 0; k < D; ++k) f(s, k) = -o.depth * sum[k];
         });
@@ -117,7 +130,7 @@ class BeadCoupling {
   std::size_t bytes() const { return cells_.bytes() + view_bytes(solid_); }
 
  private:
-  CouplingOptions options_;
+  CouplingOptions<D> options_;
   Kernel kernel_;
   DragLaw drag_;
   VanGentVirtualMass cr_;

@@ -221,7 +221,8 @@ class IsphSolver {
                        }});
     if constexpr (is_porous<Medium>)
       stages_.push_back({"bead_forces", [this] {
-                           coupling_->forces(beads_->spheres(), cells_, p_.x, p_.m, p_.kind, medium_);
+                           coupling_->forces(beads_->spheres(), cells_, p_.x, p_.m, p_.kind,
+                                             WetParticle<decltype(role_)>{role_}, medium_);
                          }});
     stages_.push_back({"move", [this] { move(); }});
     if constexpr (is_porous<Medium>) stages_.push_back({"beads", [this] { advance_beads(); }});
@@ -295,8 +296,8 @@ class IsphSolver {
     if (!beads_) throw std::invalid_argument("IsphSolver: a porous medium needs beads");
     const auto& c = *scene_.coupling;
     medium_ = Medium(n_);
-    CouplingOptions o{c.smoothing_length > 0 ? c.smoothing_length : kernel_.h, c.porosity_min,
-                      D == 3 ? 1.0 : scene_.solids->diameter, rho0_, volume_};
+    CouplingOptions<D> o{c.smoothing_length > 0 ? c.smoothing_length : kernel_.h, c.porosity_min,
+                      D == 3 ? 1.0 : scene_.solids->diameter, rho0_, volume_, g_};
     coupling_.emplace(o, DragLaw(c.drag, rho0_, scene_.viscosity, scene_.solids->diameter,
                                  c.switch_porosity),
                       VanGentVirtualMass{c.virtual_mass}, beads_->box_lo(), beads_->box_hi());

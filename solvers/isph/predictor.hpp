@@ -2,7 +2,7 @@
 // Predictor v* = v + dt (eps/C_r) (g + nu lap v + F_r) for fluid particles (method.md §4;
 // eps, C_r, the volumes of the viscous sum and the drag F_r, implicit, from the medium,
 // medium.hpp). Wall particles get
-// v* = dt g: with the wall rows of the PPE (pressure_poisson.hpp) this is the
+// v* = dt (eps/C_r) g (eps, C_r of the bed beside them): with the wall rows of the PPE (pressure_poisson.hpp) this is the
 // discrete form of the Neumann condition dP/dn = rho g.n, under which still water
 // is an exact steady state.
 #include "kernels/laplacian.hpp"
@@ -18,11 +18,11 @@ void predictor(const Sweep& sweep, const Kernel& kernel, const X& x, const V& v,
   if (nu == 0) {
     Kokkos::parallel_for(
         "dvisph::isph::predictor", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
+          const Real f = medium.porosity(i) * medium.inverse_virtual_mass(i);
           if (kind(i) != Kind::fluid) {
-            for (int k = 0; k < D; ++k) vstar(i, k) = dt * g[k];
+            for (int k = 0; k < D; ++k) vstar(i, k) = dt * (f * g[k]);
             return;
           }
-          const Real f = medium.porosity(i) * medium.inverse_virtual_mass(i);
           Vec<D> a;
           for (int k = 0; k < D; ++k) a[k] = f * g[k];
           const Vec<D> vs = medium.predict(i, row<D>(v, i), a, dt);
@@ -33,7 +33,8 @@ void predictor(const Sweep& sweep, const Kernel& kernel, const X& x, const V& v,
   Kokkos::parallel_for(
       "dvisph::isph::predictor_viscous", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
         if (kind(i) != Kind::fluid) {
-          for (int k = 0; k < D; ++k) vstar(i, k) = dt * g[k];
+          const Real f = medium.porosity(i) * medium.inverse_virtual_mass(i);
+          for (int k = 0; k < D; ++k) vstar(i, k) = dt * (f * g[k]);
           return;
         }
         const Vec<D> vi = row<D>(v, i);

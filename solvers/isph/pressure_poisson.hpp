@@ -92,7 +92,8 @@ struct PressurePoisson {
             wall_source += w * dot(g, xij);
             if (wall && water(rj)) {
               const Real W = self.kernel.W(r);
-              approach += W * (dot(vj, n) - dt * dot(g, n));
+              const Real k = self.medium.porosity(j) * self.medium.inverse_virtual_mass(j);
+              approach += W * (dot(vj, n) - dt * (k * dot(g, n)));
               shepard += W;
               lever += w * dot(n, xij);
             }
@@ -102,7 +103,10 @@ struct PressurePoisson {
           if (shepard > 0) wall_source += math::min(0, approach / shepard) / dt * lever;
           const Real si = self.medium.volume_ratio(i), eps = self.medium.porosity(i);
           const Real air_share = wall ? 0 : self.air_everywhere ? 1 : 1 - invariance(i);
-          const Real air = air_share * 2 * math::max(0, si * self.full_diagonal - d);
+          // a full support's diagonal at this particle's mobility: a bed's lower mobility
+          // is not a missing support
+          const Real full = si * self.full_diagonal * self.medium.mobility(i);
+          const Real air = air_share * 2 * math::max(0, full - d);
           diag(i) = d + air;
           for (int k = 0; k < K; ++k) {
             if (wall) b(i, k) = -rho0 * wall_source;

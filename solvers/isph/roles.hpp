@@ -35,6 +35,13 @@ KOKKOS_INLINE_FUNCTION bool in_stencil(Role r) { return r != Role::excluded; }
 KOKKOS_INLINE_FUNCTION bool unknown(Role r) { return r >= Role::fluid; }
 KOKKOS_INLINE_FUNCTION bool water(Role r) { return r == Role::fluid || r == Role::surface; }
 
+// Whether particle i is water or a wall particle in the water's stencil.
+template <class RoleV>
+struct WetParticle {
+  RoleV role;
+  KOKKOS_INLINE_FUNCTION bool operator()(int i) const { return in_stencil(role(i)); }
+};
+
 template <int D>
 struct SurfaceTest {
   bool by_density;  // else by position divergence
@@ -64,7 +71,11 @@ void density_and_roles(const Sweep& sweep, const Kernel& kernel, const X& x, con
         Vec<D> cut = Vec<D>::zero();
         sweep.for_each(i, row<D>(x, i), [&](int j, const Vec<D>& xij, Real r) {
           const Real w = kernel.W(r), vj = volume * medium.volume_ratio(j);
-          sum += m(j) * w;
+          // eps_i rho_f sum_j V_j W_ij, V_j = m_j / (eps_j rho_f): the summation density
+          // where each neighbour counts at its own porosity (summing m_j W_ij would
+          // smooth eps twice and read a bed's edge as 10 % off); a wall continues the
+          // water beside it, V_j = V_ref
+          sum += (kind(j) == Kind::fluid ? m(j) / medium.porosity(j) : m(j)) * w;
           div_r -= vj * kernel.dW_over_r(r) * r * r;
           cut += vj * kernel.grad(xij, r);
           if (!fluid && kind(j) == Kind::fluid) {
@@ -72,7 +83,7 @@ void density_and_roles(const Sweep& sweep, const Kernel& kernel, const X& x, con
             p_fluid += w * (p_last(j, 0) + test.rho0 * dot(test.g, xij));
           }
         });
-        rho(i) = sum;
+        rho(i) = medium.porosity(i) * sum;
         if (fluid) {
           const bool surface = test.by_density ? sum < test.density_threshold * test.rho_ref
                                                : div_r < test.divergence_threshold * test.div_r_ref;
