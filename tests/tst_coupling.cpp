@@ -5,6 +5,7 @@
 #include "src/scene.hpp"
 #include "src/scene_beads.hpp"
 #include "test_space.hpp"
+#include "tests/coupled_scenes.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -51,33 +52,6 @@ TEST_CASE("coupling: one bead in clear water gets its single-sphere drag", "[cou
 
 namespace {
 
-// A ball of water falling freely (no wall within reach) with beads moving through it.
-const char* blob = R"(
-name: blob
-dimension: 3
-end_time: 1
-material: {kinematic_viscosity: 1.0e-6}
-geometry:
-  spacing: 0.002
-  tank: {lo: [0, 0, 0], hi: [0.05, 0.05, 0.05]}
-  fluid: [{lo: [0.015, 0.015, 0.015], hi: [0.035, 0.035, 0.035]}]
-solids:
-  diameter: 0.0027
-  beads:
-    - {position: [0.025, 0.025, 0.025], velocity: [0.1, 0, -0.2]}
-    - {position: [0.0255, 0.022, 0.0285], velocity: [0, 0.05, 0]}
-    - {position: [0.02, 0.028, 0.02], velocity: [-0.1, 0.1, 0.3]}
-numerics: {reorder_every: 0, dt_max: 5.0e-4}
-)";
-
-// a host copy that is a copy also where the view already lives on the host
-template <class V>
-auto snapshot_of(const V& v) {
-  auto h = Kokkos::create_mirror(Kokkos::HostSpace(), v);
-  Kokkos::deep_copy(h, v);
-  return h;
-}
-
 struct Momentum {
   double p[3] = {0, 0, 0};
   double scale = 0;  // sum of |m dv| over particles and axes
@@ -87,15 +61,15 @@ struct Momentum {
 
 TEST_CASE("coupling: water and beads exchange momentum exactly", "[coupling]") {
   using Solver = IsphSolver<3, WendlandC2<3>, TestSpace, PorousMedium<3, TestSpace>>;
-  const Scene s = parse_scene(blob);
+  const Scene s = parse_scene(testing::coupled_blob);
   auto beads = scene_dem<3, TestSpace>(s);
   Solver solver(s, &beads);
   for (int step = 0; step < 5; ++step) {
     const int n = solver.size();
     const auto& p = solver.particles();
-    const auto v0 = snapshot_of(p.v);
-    const auto w0 = snapshot_of(beads.spheres().v);
-    const auto id0 = snapshot_of(beads.spheres().id);
+    const auto v0 = testing::snapshot_of(p.v);
+    const auto w0 = testing::snapshot_of(beads.spheres().v);
+    const auto id0 = testing::snapshot_of(beads.spheres().id);
     const double dt = solver.info().dt;
     solver.step();
     const auto v1 = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.v);

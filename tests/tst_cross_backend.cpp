@@ -1,6 +1,7 @@
 // Serial and OpenMP compute the same operators on disordered particles, and the same
 // DEM collision, to 1e-12.
 #include "kernels/wendland_c2.hpp"
+#include "tests/coupled_scenes.hpp"
 #include "tests/dem_scenes.hpp"
 #include "tests/operator_errors.hpp"
 
@@ -32,5 +33,16 @@ TEST_CASE("Serial and OpenMP agree on a DEM two-bead collision", "[cross_backend
       worst = std::max(
           worst, std::abs(serial[i][c] - openmp[i][c]) / std::max(std::abs(serial[i][c]), 1e-300));
   WARN("DEM two-bead collision: max relative |Serial - OpenMP| = " << worst);
+  CHECK(worst <= 1e-12);
+}
+
+TEST_CASE("Serial and OpenMP agree on water and beads coupled", "[cross_backend][coupling]") {
+  const auto serial = testing::coupled_blob_state<Kokkos::Serial>(5);
+  const auto openmp = testing::coupled_blob_state<Kokkos::OpenMP>(5);
+  REQUIRE(serial.size() == openmp.size());
+  Real worst = 0;
+  for (std::size_t i = 0; i < serial.size(); ++i)
+    worst = std::max(worst, std::abs(serial[i] - openmp[i]) / std::max(std::abs(serial[i]), 1e-300));
+  WARN("coupled ball of water and beads, 5 steps: max relative |Serial - OpenMP| = " << worst);
   CHECK(worst <= 1e-12);
 }
