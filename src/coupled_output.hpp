@@ -9,6 +9,14 @@
 //                    the fastest water and bead, and the water's force on the beads
 //                    against their buoyancy sum rho_f V_s g (which makes the load on the
 //                    floor their weight less buoyancy)
+//   ergun_bed        a fixed bed in a box periodic along every axis, the water driven by
+//                    a body force g (material.gravity) through it: at steady state the
+//                    drag balances the drive, so rho_f |g| is the pressure gradient that
+//                    would drive the same flow (K u_f = eps dP/dx in the closure's terms);
+//                    it is compared with Ergun's formula at the bed's porosity
+//                    1 - sum V_s / V_box and the measured superficial velocity
+//                    q = sum V_i v_i / sum V_i (the formula written out here, not the
+//                    drag law's code)
 #include "solvers/isph/isph_solver.hpp"
 #include "src/metrics.hpp"
 
@@ -31,7 +39,7 @@ class CoupledOutput {
   void after_step() {}
 
   std::string series_header() const {
-    return "porosity_min,beads_mean_velocity_up,fluid_force_on_beads_up";
+    return "porosity_min,beads_mean_velocity_up,fluid_force_on_beads_up,superficial_velocity_along_g";
   }
   std::string series_row() {
     const auto eps = fluid_.medium().eps;
@@ -47,17 +55,20 @@ class CoupledOutput {
     const auto b = bead_sums();
     velocity_up_.push_back(b.velocity_up);
     t_.push_back(fluid_.info().t);
-    return fmt::format("{:.6g},{:.9g},{:.9g}", lowest, b.velocity_up, b.force_up);
+    const double q = -superficial_velocity_up();
+    q_.push_back(q);
+    return fmt::format("{:.6g},{:.9g},{:.9g},{:.9g}", lowest, b.velocity_up, b.force_up, q);
   }
 
   std::string metrics() const {
     std::string m = fmt::format("\"porosity_min_seen\": {:.4g}", porosity_min_);
     if (s_.metrics_kind == "settling_bead") m += settling();
     if (s_.metrics_kind == "bed_hydrostatic") m += bed_at_rest();
+    if (s_.metrics_kind == "ergun_bed") m += ergun();
     return m;
   }
 
- private:
+  // (The helpers below hold device lambdas: public, as nvcc requires.)
   static Vec<D> up_axis(const Scene& s) {
     Vec<D> up = Vec<D>::zero();
     Real g = 0;
@@ -81,6 +92,82 @@ class CoupledOutput {
         },
         vel, force);
     return {vel / sp.n, force};
+  }
+
+  // The water's superficial velocity along up: sum V_i v_i.up / sum V_i over fluid
+  // particles, V_i = m_i / (eps_i rho_f) the volume of mixture a particle stands for.
+  double superficial_velocity_up() const {
+    const auto& p = fluid_.particles();
+    const auto v = p.v, m = p.m;
+    const auto kind = p.kind;
+    const auto eps = fluid_.medium().eps;
+    const Vec<D> up = up_;
+    double flux = 0, volume = 0;
+    Kokkos::parallel_reduce(
+        "dvisph::coupled_output::superficial_velocity", Kokkos::RangePolicy<Space>(0, fluid_.size()),
+        KOKKOS_LAMBDA(int i, double& f, double& vol) {
+          if (kind(i) != Kind::fluid) return;
+          const Real V = m(i) / eps(i);
+          vol += V;
+          for (int k = 0; k < D; ++k) f += V * v(i, k) * up[k];
+        },
+        flux, volume);
+    return volume > 0 ? flux / volume : 0;
+  }
+
+  // Ergun (1952): -dP/dx = 150 mu (1 - eps)^2 q / (eps^3 d^2) + 1.75 rho (1 - eps) q^2 / (eps^3 d).
+  double ergun_gradient(double eps, double q) const {
+    const double d = s_.solids->diameter, rho = s_.density, mu = rho * s_.viscosity;
+    const double e3 = eps * eps * eps;
+    return 150 * mu * (1 - eps) * (1 - eps) * q / (e3 * d * d) + 1.75 * rho * (1 - eps) * q * q / (e3 * d);
+  }
+
+  std::string ergun() const {
+    const auto& sp = beads_.spheres();
+    auto r = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sp.radius);
+    const double depth = D == 3 ? 1.0 : s_.solids->diameter;  // 2D: beads in a slab d deep
+    double solid = 0, box = 1;
+    for (int s = 0; s < sp.n; ++s) solid += 4.0 / 3.0 * math::pi * r(s) * r(s) * r(s) / depth;
+    for (int k = 0; k < D; ++k) box *= s_.tank.hi[k] - s_.tank.lo[k];
+    const double eps = 1 - solid / box;
+    double g = 0;
+    for (int k = 0; k < D; ++k) g += s_.gravity[k] * s_.gravity[k];
+    const double drive = s_.density * std::sqrt(g);  // Pa/m
+    const double q = q_.back();
+    // Ergun's q for this drive (the root of ergun_gradient(eps, q) = drive)
+    double lo = 0, hi = 10;
+    for (int it = 0; it < 200; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (ergun_gradient(eps, mid) < drive ? lo : hi) = mid;
+    }
+    const std::size_t k80 = static_cast<std::size_t>(0.8 * (q_.size() - 1));
+    // the spread of the porosity the water sees
+    const auto e = fluid_.medium().eps;
+    const auto kind = fluid_.particles().kind;
+    const auto policy = Kokkos::RangePolicy<Space>(0, fluid_.size());
+    Real eps_lo = 1, eps_hi = 0;
+    Kokkos::parallel_reduce(
+        "dvisph::coupled_output::porosity_low", policy,
+        KOKKOS_LAMBDA(int i, Real& a) {
+          if (kind(i) == Kind::fluid) a = math::min(a, e(i));
+        },
+        Kokkos::Min<Real>(eps_lo));
+    Kokkos::parallel_reduce(
+        "dvisph::coupled_output::porosity_high", policy,
+        KOKKOS_LAMBDA(int i, Real& b) {
+          if (kind(i) == Kind::fluid) b = math::max(b, e(i));
+        },
+        Kokkos::Max<Real>(eps_hi));
+    // the water's force on the bed per unit volume of mixture (the drive it takes up)
+    const double force = -bead_sums().force_up / (box * depth);
+    return fmt::format(
+        ", \"bed_porosity\": {:.6g}, \"porosity_seen_min\": {:.6g}, \"porosity_seen_max\": {:.6g}, "
+        "\"driving_gradient\": {:.6g}, \"superficial_velocity\": {:.6g}, "
+        "\"superficial_velocity_at_80_percent\": {:.6g}, \"ergun_gradient_at_q\": {:.6g}, "
+        "\"driving_over_ergun\": {:.6g}, \"ergun_superficial_velocity\": {:.6g}, "
+        "\"velocity_over_ergun\": {:.6g}, \"bed_force_per_volume_along_g\": {:.6g}",
+        eps, eps_lo, eps_hi, drive, q, q_[k80], ergun_gradient(eps, q), drive / ergun_gradient(eps, q),
+        0.5 * (lo + hi), q / (0.5 * (lo + hi)), force);
   }
 
   // The porosity and the water's velocity u_f around bead 0, weighted by W_is: as the
@@ -183,12 +270,13 @@ class CoupledOutput {
         force / buoyancy, (weight - force) / (weight - buoyancy));
   }
 
+ private:
   Scene s_;
   const Solver& fluid_;
   const Beads& beads_;
   Vec<D> up_;
   double porosity_min_ = 1;
-  std::vector<double> velocity_up_, t_;
+  std::vector<double> velocity_up_, t_, q_;
 };
 
 }  // namespace dvisph

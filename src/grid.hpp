@@ -1,7 +1,9 @@
 #pragma once
 // A uniform grid of cubic cells over a box: maps positions to cells. Shared by the
-// cell list (binning) and every neighbour sweep that reads it.
-#include "src/types.hpp"
+// cell list (binning) and every neighbour sweep that reads it. Along a periodic axis
+// the cells tile the box exactly (the last one absorbs the remainder, so no cell is
+// smaller than the cell size) and a neighbourhood of cells wraps around.
+#include "src/periodic.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -15,9 +17,12 @@ struct Grid {
   Real inv_cell;
   Real cell;
   int ncell[D];
+  Periodic<D> periodic;
 
   Grid() = default;
-  Grid(const Vec<D>& box_lo, const Vec<D>& box_hi, Real cell_size) : cell(cell_size) {
+  // periodic_axes: bit k set when axis k wraps over [box_lo[k], box_hi[k])
+  Grid(const Vec<D>& box_lo, const Vec<D>& box_hi, Real cell_size, unsigned periodic_axes = 0)
+      : cell(cell_size), periodic(box_lo, box_hi, periodic_axes) {
     if (!(cell_size > 0)) throw std::invalid_argument("Grid: cell size must be > 0");
     inv_cell = 1.0 / cell_size;
     long total = 1;
@@ -25,7 +30,8 @@ struct Grid {
       if (!(box_hi[k] > box_lo[k]))
         throw std::invalid_argument("Grid: empty box along axis " + std::to_string(k));
       lo[k] = box_lo[k];
-      ncell[k] = std::max(1, static_cast<int>(std::ceil((box_hi[k] - box_lo[k]) * inv_cell)));
+      const Real cells = (box_hi[k] - box_lo[k]) * inv_cell;
+      ncell[k] = std::max(1, static_cast<int>(periodic.wraps(k) ? std::floor(cells + 1e-9) : std::ceil(cells)));
       total *= ncell[k];
     }
     if (total > (1L << 30)) throw std::invalid_argument("Grid: more than 2^30 cells");
@@ -44,14 +50,31 @@ struct Grid {
   KOKKOS_INLINE_FUNCTION int clamp(int c, int k) const {
     return c < 0 ? 0 : (c >= ncell[k] ? ncell[k] - 1 : c);
   }
+  KOKKOS_INLINE_FUNCTION int wrap(int c, int k) const {
+    return c < 0 ? c + ncell[k] : (c >= ncell[k] ? c - ncell[k] : c);
+  }
+  // Whether `reach` cells on each side of a cell stay distinct cells along every periodic
+  // axis (a neighbourhood that wrapped onto itself would visit particles twice).
+  bool reach_fits(int reach) const {
+    for (int k = 0; k < D; ++k)
+      if (periodic.wraps(k) && ncell[k] < 2 * reach + 1) return false;
+    return true;
+  }
   // f(first, last) for each row of cells (flat indices first..last, consecutive along
   // axis 0) in the block within `reach` cells of the cell coordinates c (unclamped),
-  // clipped to the grid; nothing when the block misses the grid. The one walk over a
-  // neighbourhood of cells, for sweeps and neighbourhood tests.
+  // clipped to the grid, or wrapped along periodic axes (reach_fits(reach)); nothing
+  // when the block misses the grid. The one walk over a neighbourhood of cells, for
+  // sweeps and neighbourhood tests.
   template <class F>
   KOKKOS_INLINE_FUNCTION void for_each_row(const int (&c)[D], int reach, F&& f) const {
     int lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
     for (int k = 0; k < D; ++k) {
+      if (periodic.wraps(k)) {
+        const int ck = clamp(c[k], k);
+        lo[k] = ck - reach;
+        hi[k] = ck + reach;
+        continue;
+      }
       if (c[k] + reach < 0 || c[k] - reach >= ncell[k]) return;
       lo[k] = clamp(c[k] - reach, k);
       hi[k] = clamp(c[k] + reach, k);
@@ -60,8 +83,15 @@ struct Grid {
     const int ny = D > 1 ? ncell[1] : 1;
     for (int cz = lo[2]; cz <= hi[2]; ++cz)
       for (int cy = lo[1]; cy <= hi[1]; ++cy) {
-        const int row = (cz * ny + cy) * nx;
-        f(row + lo[0], row + hi[0]);
+        const int wz = D > 2 ? wrap(cz, D - 1) : cz, wy = D > 1 ? wrap(cy, D - 1 > 0 ? 1 : 0) : cy;
+        const int row = (wz * ny + wy) * nx;
+        const int first = wrap(lo[0], 0), last = wrap(hi[0], 0);
+        if (first <= last) {
+          f(row + first, row + last);
+        } else {  // a row across the periodic seam of axis 0: two runs
+          f(row + first, row + nx - 1);
+          f(row, row + last);
+        }
       }
   }
 

@@ -59,6 +59,7 @@ class NeighborList {
     pairs_ = total;
     x_ = sweep.x;
     radius2_ = sweep.radius2;
+    periodic_ = sweep.grid.periodic;
   }
 
   template <class XView>
@@ -71,16 +72,17 @@ class NeighborList {
     Kokkos::View<const int*, memory_space> offsets, neighbors;
     Kokkos::View<const Real* [D], memory_space> x;
     Real radius2;
+    Periodic<D> periodic;
     // Positions may have moved since the build: distances are recomputed, and pairs
     // that drifted beyond the radius are skipped (a list built with a skin stays valid).
     template <class F>
     KOKKOS_INLINE_FUNCTION void for_each(int i, const Vec<D>& xi, F&& f) const {
-      for (int a = offsets(i); a < offsets(i + 1); ++a) visit_within(x, neighbors(a), xi, radius2, f);
+      for (int a = offsets(i); a < offsets(i + 1); ++a) visit_within(x, neighbors(a), xi, radius2, periodic, f);
     }
   };
   // The sweep over stored pairs; `radius` may be smaller than the build radius.
-  Sweep sweep(Real radius) const { return Sweep{offsets_, neighbors_, x_, radius * radius}; }
-  Sweep sweep() const { return Sweep{offsets_, neighbors_, x_, radius2_}; }
+  Sweep sweep(Real radius) const { return Sweep{offsets_, neighbors_, x_, radius * radius, periodic_}; }
+  Sweep sweep() const { return Sweep{offsets_, neighbors_, x_, radius2_, periodic_}; }
 
   long pairs() const { return pairs_; }
   std::size_t bytes() const { return view_bytes(offsets_, neighbors_); }
@@ -91,6 +93,7 @@ class NeighborList {
   Real radius2_ = 0;
   Kokkos::View<int*, memory_space> offsets_, neighbors_;
   Kokkos::View<const Real* [D], memory_space> x_;
+  Periodic<D> periodic_;
 };
 
 }  // namespace dvisph

@@ -6,19 +6,22 @@
 // Self pairs (j == i within one set) are visited; kernels give them zero gradient.
 #include "src/cell_list.hpp"
 
+#include <cmath>
+#include <stdexcept>
+
 namespace dvisph {
 
-// Calls f(j, xi - x_j, |xi - x_j|) when candidate j lies within sqrt(radius2) of xi:
-// the distance test every sweep applies to its candidates.
+// Calls f(j, xi - x_j, |xi - x_j|) when candidate j lies within sqrt(radius2) of xi
+// (at its nearest image along periodic axes): the distance test every sweep applies to
+// its candidates.
 template <int D, class XView, class F>
 KOKKOS_INLINE_FUNCTION void visit_within(const XView& x, int j, const Vec<D>& xi, Real radius2,
-                                         F&& f) {
+                                         const Periodic<D>& periodic, F&& f) {
   Vec<D> xij;
+  for (int k = 0; k < D; ++k) xij[k] = xi[k] - x(j, k);
+  periodic.nearest_image(xij);
   Real r2 = 0;
-  for (int k = 0; k < D; ++k) {
-    xij[k] = xi[k] - x(j, k);
-    r2 += xij[k] * xij[k];
-  }
+  for (int k = 0; k < D; ++k) r2 += xij[k] * xij[k];
   if (r2 < radius2) f(j, xij, math::sqrt(r2));
 }
 
@@ -40,7 +43,12 @@ struct CellSweep {
         particles(cells.permutation()),
         x(target_x),
         radius2(radius * radius),
-        reach(static_cast<int>(std::ceil(radius / cells.grid().cell - 1e-12))) {}
+        reach(static_cast<int>(std::ceil(radius / cells.grid().cell - 1e-12))) {
+    if (!grid.reach_fits(reach))
+      throw std::invalid_argument(
+          "CellSweep: a periodic axis is shorter than 2 search radii plus a cell; its pairs "
+          "would be counted twice");
+  }
 
   template <class F>
   KOKKOS_INLINE_FUNCTION void for_each(int /*i*/, const Vec<D>& xi, F&& f) const {
@@ -49,7 +57,7 @@ struct CellSweep {
     grid.for_each_row(c, reach, [&](int first, int last) {
       // the cells of a row are contiguous in the permutation
       const int end = offsets(last + 1);
-      for (int a = offsets(first); a < end; ++a) visit_within(x, particles(a), xi, radius2, f);
+      for (int a = offsets(first); a < end; ++a) visit_within(x, particles(a), xi, radius2, grid.periodic, f);
     });
   }
 };

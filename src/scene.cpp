@@ -227,7 +227,8 @@ void check_solids(const Scene& s) {
                           const std::string& path) {
     for (int k = 0; k < dim; ++k) {
       const double top = k == 0 && s.gate ? s.gate->x : s.tank.hi[k];
-      if (lo[k] - r < s.tank.lo[k] - 1e-12 || hi[k] + r > top + 1e-12)
+      const double reach = s.periodic >> k & 1u ? 0 : r;  // no face to reach past
+      if (lo[k] - reach < s.tank.lo[k] - 1e-12 || hi[k] + reach > top + 1e-12)
         throw SceneError(fmt::format("{}: beads of diameter {:g} m at [{:g}, {:g}] m along axis {} "
                                      "reach outside [{:g}, {:g}] m (the tank{})",
                                      path, b.diameter, lo[k], hi[k], k, s.tank.lo[k], top,
@@ -243,7 +244,8 @@ void check_solids(const Scene& s) {
     const auto path = fmt::format("solids.lattice[{}]", l);
     check_box(b.lattice[l], path);
     auto inner = b.lattice[l];
-    for (int k = 0; k < dim; ++k) inner.lo[k] += r, inner.hi[k] -= r;
+    const double in = std::min(r, 0.5 * dx);  // the outermost centres
+    for (int k = 0; k < dim; ++k) inner.lo[k] += in, inner.hi[k] -= in;
     for (int k = 0; k < dim; ++k)
       if (inner.hi[k] < inner.lo[k])
         throw SceneError(fmt::format("{}: thinner than solids.diameter = {:g} m along axis {}",
@@ -278,7 +280,7 @@ void check_solids(const Scene& s) {
       if (interiors_overlap(hulls[i].second, hulls[j].second))
         throw SceneError(fmt::format("solids.lattice[{}] overlaps the beads of solids.lattice[{}]",
                                      hulls[i].first, hulls[j].first));
-  if (b.jitter >= 0.5 * (b.lattice_spacing - 1) && b.jitter > 0)
+  if (b.jitter >= 0.5 * (b.lattice_spacing - 1) && b.jitter > 0 && !b.fixed)
     throw SceneError(fmt::format("solids.jitter = {:g}: beads could overlap, must be < "
                                  "(solids.lattice_spacing - 1) / 2 = {:g}",
                                  b.jitter, 0.5 * (b.lattice_spacing - 1)));
@@ -294,6 +296,60 @@ void check_solids(const Scene& s) {
         d2 += (b.beads[i].x[k] - b.beads[j].x[k]) * (b.beads[i].x[k] - b.beads[j].x[k]);
       if (d2 < b.diameter * b.diameter * (1 - 1e-12))
         throw SceneError(fmt::format("{} overlaps solids.beads[{}]", path, j));
+    }
+  }
+}
+
+// A periodic axis has no walls, and its cells must not wrap onto themselves.
+void check_periodic(const Scene& s) {
+  if (s.solids && s.solids->fixed && s.fluid.empty())
+    throw SceneError("solids.fixed = true: a fixed bed needs geometry.fluid (without water "
+                     "nothing would move)");
+  if (s.solids && !s.solids->fixed && s.solids->lattice_spacing < 1)
+    throw SceneError(fmt::format("solids.lattice_spacing = {:g}: beads would overlap, must be >= 1 "
+                                 "(below 1 only with solids.fixed: true)",
+                                 s.solids->lattice_spacing));
+  if (!s.periodic) return;
+  const std::string axes = "xyz";
+  const int last = s.dimension - 1;
+  if (s.gate && (s.periodic & 1u))
+    throw SceneError("geometry.gate: a wall across axis x, which geometry.tank.periodic makes "
+                     "periodic (a periodic axis has no walls)");
+  if ((s.periodic >> last & 1u) && s.open_top)
+    throw SceneError(fmt::format("geometry.tank.periodic: axis {} wraps, but geometry.tank.open_top "
+                                 "= true puts a free surface above it; set open_top: false",
+                                 axes[last]));
+  // the largest search over each grid that wraps: the fluid's cells (2h, swept to 2h and,
+  // for the beads' forces, to 2 h_c), the coupling's bead cells (2 h_c) and the DEM's
+  const double h = s.h_over_dx * s.spacing;
+  const double hc = s.coupling && s.coupling->smoothing_length > 0 ? s.coupling->smoothing_length : h;
+  for (int k = 0; k < s.dimension; ++k) {
+    if (!(s.periodic >> k & 1u)) continue;
+    const double L = s.tank.hi[k] - s.tank.lo[k];
+    auto need = [&](double cell, double radius, const char* what) {
+      const double cells = std::floor(L / cell + 1e-9);
+      const double reach = std::ceil(radius / cell - 1e-12);
+      if (cells < 2 * reach + 1)
+        throw SceneError(fmt::format("geometry.tank.periodic: axis {} is {:g} m long, shorter than "
+                                     "{:g} m ({} search radius {:g} m twice and a cell)",
+                                     axes[k], L, (2 * reach + 1) * cell, what, radius));
+    };
+    if (!s.fluid.empty()) {
+      const double sites = L / s.spacing;
+      if (std::abs(sites - std::round(sites)) > 1e-6)
+        throw SceneError(fmt::format("geometry.tank.periodic: axis {} is {:g} m long, {:.6g} times "
+                                     "geometry.spacing = {:g} m; a periodic length must be a whole "
+                                     "number of spacings (the lattice would leave a gap at the seam)",
+                                     axes[k], L, sites, s.spacing));
+      need(2 * h, 2 * h, "the fluid's");
+    }
+    if (s.coupling) {
+      need(2 * h, 2 * hc, "the coupling's");
+      need(2 * hc, 2 * hc, "the coupling's");
+    }
+    if (s.solids && !s.solids->fixed) {
+      const double cell = s.solids->diameter * (1 + 0.05 + s.solids->list_skin);  // DemOptions::skin 0.05
+      need(cell, cell, "the DEM's contact");
     }
   }
 }
@@ -316,6 +372,7 @@ void check_consistency(const Scene& s) {
                                  s.gate->x, s.tank.lo[0], s.tank.hi[0]));
   if (s.fluid.empty() && !s.solids)
     throw SceneError("nothing to simulate: give geometry.fluid, solids, or both");
+  check_periodic(s);
   if (s.solids) check_solids(s);
   if (s.coupling && (s.fluid.empty() || !s.solids))
     throw SceneError("coupling: needs both geometry.fluid and solids");
@@ -336,7 +393,12 @@ void check_consistency(const Scene& s) {
       throw SceneError("material.kinematic_viscosity = 0: the drag of water on beads needs a "
                        "viscous fluid (> 0)");
   }
-  const bool coupled_metric = s.metrics_kind == "settling_bead" || s.metrics_kind == "bed_hydrostatic";
+  const bool coupled_metric = s.metrics_kind == "settling_bead" || s.metrics_kind == "bed_hydrostatic" ||
+                              s.metrics_kind == "ergun_bed";
+  if (s.metrics_kind == "ergun_bed" && (s.periodic != (1u << s.dimension) - 1 || !s.solids ||
+                                        !s.solids->fixed))
+    throw SceneError("metrics.kind = ergun_bed: needs a fixed bed (solids.fixed: true) in a tank "
+                     "periodic along every axis (geometry.tank.periodic)");
   if (coupled_metric && !s.coupling)
     throw SceneError(fmt::format("metrics.kind = {}: needs geometry.fluid and solids", s.metrics_kind));
   if (s.gravity.size() != static_cast<std::size_t>(s.dimension))
@@ -428,6 +490,14 @@ Scene parse_scene(const std::string& yaml_text, const std::vector<std::string>& 
   s.jitter = r.number("geometry.jitter");
   s.tank = {r.vec("geometry.tank.lo"), r.vec("geometry.tank.hi")};
   s.open_top = r.at("geometry.tank.open_top").as<bool>();
+  if (const auto axes = r.text("geometry.tank.periodic"); axes != "none")
+    for (const char a : axes) {
+      const int k = a - 'x';
+      if (k >= dim)
+        throw SceneError(fmt::format("geometry.tank.periodic = '{}': a {}D scene has no axis {}",
+                                     axes, dim, a));
+      s.periodic |= 1u << k;
+    }
   for (const auto& b : root["geometry"]["fluid"]) s.fluid.push_back(read_box(b));
   if (root["solids"]) {
     Scene::Solids b;
@@ -438,6 +508,7 @@ Scene parse_scene(const std::string& yaml_text, const std::vector<std::string>& 
     b.friction = r.number("solids.friction");
     b.dt_safety = r.number("solids.dt_safety");
     b.rotation = r.at("solids.rotation").as<bool>();
+    b.fixed = r.at("solids.fixed").as<bool>();
     b.list_skin = r.number("solids.list_skin");
     for (const auto& l : root["solids"]["lattice"]) b.lattice.push_back(read_box(l));
     b.lattice_spacing = r.number("solids.lattice_spacing");

@@ -29,6 +29,7 @@ struct Scene {
   double jitter = 0;  // fluid start positions, over spacing
   Box tank;
   bool open_top = true;
+  unsigned periodic = 0;  // geometry.tank.periodic: bit k set when axis k wraps
   std::vector<Box> fluid;
   struct Gate {
     double x, remove_at;
@@ -41,6 +42,7 @@ struct Scene {
   struct Solids {
     double diameter, density, restitution, stiffness, friction, dt_safety, list_skin;
     bool rotation;
+    bool fixed = false;  // held where they start (a fixed bed): no DEM step
     std::vector<Box> lattice;
     double lattice_spacing, jitter;
     int seed, count;

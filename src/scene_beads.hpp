@@ -78,8 +78,11 @@ template <int D>
 std::vector<dem::PlaneWall<D>> scene_walls(const Scene& s) {
   const Vec<D> lo = to_vec<D>(s.tank.lo), hi = to_vec<D>(s.tank.hi);
   std::vector<dem::PlaneWall<D>> walls;
-  for (const auto& w : dem::box_walls<D>(lo, hi))
-    if (!(s.open_top && w.normal[D - 1] < 0)) walls.push_back(w);
+  for (const auto& w : dem::box_walls<D>(lo, hi)) {
+    bool periodic = false;  // a face across a periodic axis is no wall
+    for (int k = 0; k < D; ++k) periodic = periodic || (w.normal[k] != 0 && (s.periodic >> k & 1u));
+    if (!(s.open_top && w.normal[D - 1] < 0) && !periodic) walls.push_back(w);
+  }
   if (s.gate) {
     Vec<D> p = lo, n = Vec<D>::zero();
     p[0] = s.gate->x;
@@ -93,11 +96,13 @@ template <int D, class Space>
 dem::DemSolver<D, Space> scene_dem(const Scene& s) {
   const auto& b = *s.solids;
   Vec<D> lo = to_vec<D>(s.tank.lo), hi = to_vec<D>(s.tank.hi), g = to_vec<D>(s.gravity);
-  if (s.open_top) hi[D - 1] += hi[D - 1] - lo[D - 1];  // room to bounce above an open top
+  // room to bounce above an open top (a periodic axis is the tank's length exactly)
+  if (s.open_top && !(s.periodic >> (D - 1) & 1u)) hi[D - 1] += hi[D - 1] - lo[D - 1];
   dem::DemOptions<D> options;
   options.safety = b.dt_safety;
   options.rotation = b.rotation;
   options.list_skin = b.list_skin;
+  options.periodic_axes = s.periodic;
   return dem::DemSolver<D, Space>(scene_spheres<D, Space>(s), scene_walls<D>(s),
                                   dem::LinearSpringDashpot<D>(b.stiffness, b.restitution, b.friction),
                                   lo, hi, g, options);

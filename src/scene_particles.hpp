@@ -14,7 +14,7 @@ template <int D>
 struct SceneParticles {
   std::vector<Vec<D>> x;
   std::vector<Kind> kind;
-  Vec<D> domain_lo, domain_hi;  // particles must stay inside
+  Vec<D> domain_lo, domain_hi;  // particles must stay inside (or wrap, along periodic axes)
 };
 
 template <int D>
@@ -37,14 +37,17 @@ SceneParticles<D> scene_particles(const Scene& s) {
     add(lattice<D>(to_vec<D>(b.lo), to_vec<D>(b.hi), dx, s.jitter * dx), Kind::fluid);
 
   // walls: the shell between the inner box and the box grown by the layers, on the
-  // lattice continued from the inner faces (open top: no shell above hi)
+  // lattice continued from the inner faces (open top: no shell above hi; a periodic axis
+  // has none on either side)
   const Real thick = s.wall_layers * dx;
+  auto wraps = [&](int k) { return (s.periodic >> k & 1u) != 0; };
   Vec<D> wlo = lo, whi = hi;
-  for (int k = 0; k < D; ++k) wlo[k] -= thick, whi[k] += thick;
-  if (s.open_top) whi[D - 1] = hi[D - 1];
+  for (int k = 0; k < D; ++k)
+    if (!wraps(k)) wlo[k] -= thick, whi[k] += thick;
+  if (s.open_top && !wraps(D - 1)) whi[D - 1] = hi[D - 1];
   for (const auto& p : lattice<D>(wlo, whi, dx)) {
     bool inside = true;
-    for (int k = 0; k < D; ++k) inside = inside && p[k] > lo[k] && p[k] < hi[k];
+    for (int k = 0; k < D; ++k) inside = inside && (wraps(k) || (p[k] > lo[k] && p[k] < hi[k]));
     if (!inside) {
       out.x.push_back(p);
       out.kind.push_back(Kind::wall);
@@ -56,12 +59,14 @@ SceneParticles<D> scene_particles(const Scene& s) {
     ghi[0] = s.gate->x + thick;
     add(lattice<D>(glo, ghi, dx), Kind::gate);
   }
-  // room above an open top for splashes; beyond the domain a particle is lost
+  // room above an open top for splashes; beyond the domain a particle is lost (along a
+  // periodic axis the domain is the tank, and a particle leaving it wraps)
   const Real margin = thick + 4 * dx;
   out.domain_lo = wlo;
   out.domain_hi = whi;
-  for (int k = 0; k < D; ++k) out.domain_lo[k] -= margin, out.domain_hi[k] += margin;
-  if (s.open_top) out.domain_hi[D - 1] += hi[D - 1] - lo[D - 1];
+  for (int k = 0; k < D; ++k)
+    if (!wraps(k)) out.domain_lo[k] -= margin, out.domain_hi[k] += margin;
+  if (s.open_top && !wraps(D - 1)) out.domain_hi[D - 1] += hi[D - 1] - lo[D - 1];
   return out;
 }
 

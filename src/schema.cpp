@@ -96,6 +96,12 @@ Field make_schema() {
                           vector("lo", "m", "", "lower corner of the inner tank faces"),
                           vector("hi", "m", "", "upper corner of the inner tank faces"),
                           boolean("open_top", "true", "no wall on the top face"),
+                          choice("periodic", "none", {"none", "x", "y", "z", "xy", "xz", "yz", "xyz"},
+                                 "axes along which the tank wraps (no walls there: what leaves "
+                                 "through one face comes back through the other; water, beads, "
+                                 "pairs and the pressure solve all wrap); its length must be a "
+                                 "whole number of spacings, and the last axis wraps only with "
+                                 "open_top: false"),
                       },
                       "tank: box of wall particles around the fluid"),
                   list("fluid", false,
@@ -123,6 +129,10 @@ Field make_schema() {
                          "a contact gets too few steps and strongly damped beds gain energy "
                          "(docs/stability.md)", true),
                   boolean("rotation", "true", "false: beads do not rotate (torques ignored)"),
+                  boolean("fixed", "false",
+                          "true: the beads stay where they start (a fixed bed, e.g. the Ergun "
+                          "check): no DEM step, no contacts; the water's forces on them are "
+                          "still computed and reported. Needs geometry.fluid"),
                   number("list_skin", "", "0.1", 0, 2,
                          "Verlet list skin over the bead diameter: pairs this much farther apart "
                          "than the contact search are listed, and the list is rebuilt once a "
@@ -130,8 +140,10 @@ Field make_schema() {
                   list("lattice", false,
                        {vector("lo", "m", "", "lower corner"), vector("hi", "m", "", "upper corner")},
                        "boxes filled with beads on a square lattice, bottom layer first"),
-                  number("lattice_spacing", "", "1.1", 1, 10,
-                         "lattice: distance between bead centres over d"),
+                  number("lattice_spacing", "", "1.1", 0.5, 10,
+                         "lattice: distance between bead centres over d; at least 1 unless "
+                         "solids.fixed (a fixed bed's beads are only volume spread over the "
+                         "water, so a dense bed may overlap them)"),
                   number("jitter", "", "0", 0, 0.5,
                          "lattice: random offset of each bead along each axis, over d; must "
                          "leave the beads apart (< (lattice_spacing - 1) / 2)"),
@@ -243,7 +255,7 @@ Field make_schema() {
                   choice("kind", "none",
                          {"none", "hydrostatic", "dam_break", "bead_drop", "bead_collision",
                           "bead_slide", "bead_bed", "bead_collapse", "settling_bead",
-                          "bed_hydrostatic"},
+                          "bed_hydrostatic", "ergun_bed"},
                          "scene-specific figures in summary.json"),
                   number("column_width", "m", "0", 0, inf,
                          "dam_break: width a of the initial water column (Z = z/a, "

@@ -113,3 +113,51 @@ TEST_CASE("coupling: water and beads exchange momentum exactly", "[coupling]") {
     }
   }
 }
+
+TEST_CASE("coupling: water driven through a periodic fixed bed flows at Ergun's velocity", "[coupling]") {
+  // scenes/ergun_bed_2d.yaml at 5 cm/s for 0.1 s: the water crosses the periodic faces
+  // (u_f = q / eps = 12.5 cm/s, 0.55 box lengths), and none is lost
+  using Solver = IsphSolver<2, WendlandC2<2>, TestSpace, PorousMedium<2, TestSpace>>;
+  const double L = 0.02270021436, drive = 20.978;  // m, m/s^2
+  const Scene s = parse_scene(R"(
+name: ergun_test
+dimension: 2
+end_time: 0.1
+material: {density: 1000, kinematic_viscosity: 1.0e-6, gravity: [20.978, 0]}
+geometry:
+  spacing: 0.00126112302
+  tank: {lo: [0, 0], hi: [0.02270021436, 0.02270021436], open_top: false, periodic: xy}
+  fluid: [{lo: [0, 0], hi: [0.02270021436, 0.02270021436]}]
+solids:
+  diameter: 0.0027
+  fixed: true
+  lattice: [{lo: [0, 0], hi: [0.02270021436, 0.02270021436]}]
+  lattice_spacing: 0.9341652
+coupling: {smoothing_length: 0.00378336906}
+)");
+  auto beads = scene_dem<2, TestSpace>(s);
+  Solver solver(s, &beads);
+  const int n0 = solver.size();
+  while (solver.info().t < s.end_time) solver.step();
+  REQUIRE(solver.size() == n0);
+  const auto& p = solver.particles();
+  const auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.x);
+  const auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.v);
+  const auto m = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.m);
+  const auto eps = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), solver.medium().eps);
+  double flux = 0, volume = 0, lowest = L, highest = 0;
+  for (int i = 0; i < n0; ++i) {
+    flux += m(i) / eps(i) * v(i, 0);
+    volume += m(i) / eps(i);
+    for (int k = 0; k < 2; ++k) lowest = std::min(lowest, x(i, k)), highest = std::max(highest, x(i, k));
+  }
+  CHECK(lowest >= 0);
+  CHECK(highest < L);
+  // Ergun's superficial velocity for the drive rho g at eps = 0.4: the root of
+  // 150 mu (1 - eps)^2 q / (eps^3 d^2) + 1.75 rho (1 - eps) q^2 / (eps^3 d) = rho g
+  const double e = 0.4, a = 1.75 * rho * (1 - e) / (e * e * e * d),
+               b = 150 * rho * nu * (1 - e) * (1 - e) / (e * e * e * d * d);
+  const double q = (-b + std::sqrt(b * b + 4 * a * rho * drive)) / (2 * a);
+  CHECK(q == Approx(0.05).epsilon(1e-4));
+  CHECK(flux / volume == Approx(q).epsilon(0.02));
+}

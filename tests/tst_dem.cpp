@@ -42,8 +42,10 @@ void set_row(const View& field, int i, const std::vector<Real>& values) {
 // Rebound of the paper's bead at 1 m/s without gravity: off a wall (returns the normal
 // speed after over before) or off an equal bead (relative speeds). The gap before
 // contact is (3 + phase) steps, so the contact starts at that fraction of a step.
+// across_seam: the two beads meet across the periodic face x = +-0.02 of the box.
 template <int D>
-Real rebound(Real e, bool wall, Real safety, Real phase, bool non_attractive = false) {
+Real rebound(Real e, bool wall, Real safety, Real phase, bool non_attractive = false,
+             bool across_seam = false) {
   const Real r = 0.5 * bead_d;
   LinearSpringDashpot<D> law(bead_kn, e, 0.2);
   law.non_attractive = non_attractive;
@@ -59,6 +61,11 @@ Real rebound(Real e, bool wall, Real safety, Real phase, bool non_attractive = f
     walls = {PlaneWall<D>(Vec<D>::zero(), axis<D>(D - 1))};
   } else {
     x = {axis<D>(0, -r - 0.5 * gap), axis<D>(0, r + 0.5 * gap)};
+  }
+  if (across_seam) {
+    x[0][0] += 0.02;
+    x[1][0] -= 0.02;
+    opt.periodic_axes = 1;
   }
   Spheres<D, TestSpace> s(x, r, bead_rho);
   const int normal = wall ? D - 1 : 0;
@@ -142,6 +149,14 @@ TEST_CASE("beads rebound with the restitution coefficient e", "[dem]") {
       // the paper's e = 0.9 and above meet it at the default step too
       if (e >= 0.9) CHECK(worst_default < 1e-3);
     }
+}
+
+TEST_CASE("beads meeting across a periodic face rebound as anywhere else", "[dem]") {
+  for (const Real e : {0.9, 0.5}) {
+    const Real inside = rebound<3>(e, false, 0.04, 0.3);
+    CHECK(rebound<3>(e, false, 0.04, 0.3, false, true) == Approx(inside).epsilon(1e-9));
+    CHECK(rebound<2>(e, false, 0.04, 0.3, false, true) == Approx(rebound<2>(e, false, 0.04, 0.3)).epsilon(1e-9));
+  }
 }
 
 TEST_CASE("a non-attractive normal force makes beads rebound faster than e", "[dem]") {

@@ -1,6 +1,7 @@
 // Neighbour search: the cell sweep and the stored list find exactly the brute-force
-// pair set, in 2D and 3D, in a non-cubic box, with particles on cell faces, and for a
-// query set with a radius other than the cell size.
+// pair set, in 2D and 3D, in a non-cubic box, with particles on cell faces, for a
+// query set with a radius other than the cell size, and across periodic faces (pairs at
+// their nearest image).
 #include "src/neighbor_list.hpp"
 #include "tests/test_space.hpp"
 
@@ -39,13 +40,17 @@ Kokkos::View<Real* [D], Mem> to_view(const std::vector<Vec<D>>& p) {
   return x;
 }
 
+// pairs within radius, at the nearest image along the axes in `periodic` (bit k: axis k
+// wraps over [0, hi[k]))
 template <int D>
-std::set<std::pair<int, int>> brute_force(const std::vector<Vec<D>>& q,
-                                          const std::vector<Vec<D>>& t, Real radius) {
+std::set<std::pair<int, int>> brute_force(const std::vector<Vec<D>>& q, const std::vector<Vec<D>>& t,
+                                          Real radius, unsigned periodic = 0, Vec<D> hi = {}) {
   std::set<std::pair<int, int>> pairs;
   for (std::size_t i = 0; i < q.size(); ++i)
     for (std::size_t j = 0; j < t.size(); ++j) {
-      const Vec<D> d = q[i] - t[j];
+      Vec<D> d = q[i] - t[j];
+      for (int k = 0; k < D; ++k)
+        if (periodic >> k & 1u) d[k] -= hi[k] * std::round(d[k] / hi[k]);
       if (dot(d, d) < radius * radius) pairs.emplace(i, j);
     }
   return pairs;
@@ -82,7 +87,7 @@ std::set<std::pair<int, int>> swept_pairs(const Sweep& sweep, const XView& xq, i
 }
 
 template <int D>
-void check_search(Real query_radius_factor) {
+void check_search(Real query_radius_factor, unsigned periodic = 0) {
   const Real cell = 0.1;
   Vec<D> lo, hi;
   for (int k = 0; k < D; ++k) {
@@ -96,7 +101,7 @@ void check_search(Real query_radius_factor) {
 
   const auto xt = to_view<D>(targets);
   const auto xq = to_view<D>(queries);
-  CellList<D, TestSpace> cells(Grid<D>(lo, hi, cell));
+  CellList<D, TestSpace> cells(Grid<D>(lo, hi, cell, periodic));
   cells.build(xt, n);
 
   // the permutation holds every particle once
@@ -106,11 +111,11 @@ void check_search(Real query_radius_factor) {
 
   const CellSweep<D, TestSpace> sweep(cells, xt, radius);
   // same set
-  const auto expected_self = brute_force<D>(targets, targets, radius);
+  const auto expected_self = brute_force<D>(targets, targets, radius, periodic, hi);
   CHECK(swept_pairs<D>(sweep, xt, n) == expected_self);
   // another set
   CHECK(swept_pairs<D>(sweep, xq, static_cast<int>(queries.size())) ==
-        brute_force<D>(queries, targets, radius));
+        brute_force<D>(queries, targets, radius, periodic, hi));
   // stored list
   NeighborList<D, TestSpace> list;
   list.build(sweep, xt, n);
@@ -129,4 +134,31 @@ TEST_CASE("cell sweep finds the brute-force pairs, 2D", "[neighbors]") {
 TEST_CASE("cell sweep finds the brute-force pairs, 3D", "[neighbors]") {
   check_search<3>(1.0);
   check_search<3>(1.37);
+}
+
+TEST_CASE("cell sweep finds the brute-force pairs across periodic faces", "[neighbors]") {
+  // the sides are not multiples of the cell: the last cell along a periodic axis is wider
+  check_search<2>(1.0, 0b01);
+  check_search<2>(1.7, 0b11);  // two cells each side, 5 cells along y: just enough
+  check_search<3>(1.0, 0b101);
+  check_search<3>(1.37, 0b011);  // 3 cells along z: reach 2 would wrap onto itself
+  check_search<3>(1.0, 0b111);
+  // a periodic axis shorter than 2 search radii and a cell would count pairs twice
+  Vec<2> lo{{0, 0}}, hi{{1.0, 0.25}};
+  CellList<2, TestSpace> cells(Grid<2>(lo, hi, 0.1, 0b10));
+  const auto x = to_view<2>(random_points<2>(10, hi, 0.1, 3));
+  cells.build(x, 10);
+  CHECK_THROWS_AS((CellSweep<2, TestSpace>(cells, x, 0.1)), std::invalid_argument);
+}
+
+TEST_CASE("periodic positions wrap into the box, pair vectors to the nearest image", "[neighbors]") {
+  const Periodic<2> p(Vec<2>{{-1, 0}}, Vec<2>{{2, 1}}, 0b01);
+  CHECK(p.wrap(2.5, 0) == Approx(-0.5));
+  CHECK(p.wrap(-1.25, 0) == Approx(1.75));
+  CHECK(p.wrap(2.0, 0) == -1.0);   // the upper face is the lower one
+  CHECK(p.wrap(5.0, 1) == 5.0);    // axis 1 does not wrap
+  Vec<2> d{{2.9, 0.9}};
+  p.nearest_image(d);
+  CHECK(d[0] == Approx(-0.1));
+  CHECK(d[1] == 0.9);
 }

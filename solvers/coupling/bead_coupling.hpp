@@ -38,9 +38,9 @@ class BeadCoupling {
   using memory_space = typename Space::memory_space;
 
   BeadCoupling(const CouplingOptions<D>& o, const DragLaw& drag, VanGentVirtualMass cr,
-               const Vec<D>& bead_lo, const Vec<D>& bead_hi)
+               const Vec<D>& bead_lo, const Vec<D>& bead_hi, unsigned periodic_axes)
       : options_(o), kernel_(o.smoothing_length), drag_(drag), cr_(cr),
-        cells_(Grid<D>(bead_lo, bead_hi, kernel_.radius())) {}
+        cells_(Grid<D>(bead_lo, bead_hi, kernel_.radius(), periodic_axes)) {}
 
   const Kernel& kernel() const { return kernel_; }
   const CouplingOptions<D>& options() const { return options_; }
@@ -55,7 +55,8 @@ class BeadCoupling {
     const auto drag = drag_;
     const auto cr = cr_;
     const auto o = options_;
-    const auto bx = beads.v, radius = beads.radius;
+    const auto bx = beads.v;
+    const auto radius = beads.radius;
     const auto solid_out = solid_;
     const Real third = 4.0 / 3.0 * math::pi / o.depth;
     Kokkos::parallel_for(
@@ -104,7 +105,8 @@ class BeadCoupling {
     const auto kernel = kernel_;
     const auto o = options_;
     const auto solid = solid_;
-    const auto bx = beads.x, radius = beads.radius, f = beads.f_ext;
+    const auto bx = beads.x, f = beads.f_ext;
+    const auto radius = beads.radius;
     const Real third = 4.0 / 3.0 * math::pi / o.depth;
     Kokkos::parallel_for(
         "dvisph::coupling::forces", Kokkos::RangePolicy<Space>(0, beads.n), KOKKOS_LAMBDA(int s) {

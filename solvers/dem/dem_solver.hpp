@@ -49,6 +49,9 @@ struct DemOptions {
   // stiffness is wrong (an error, checked): at 1 m/s a 2.7 mm bead with k_n = 1000 N/m
   // sinks 12 % of its radius into a wall.
   Real max_overlap = 0.5;
+  // Axes along which the box wraps (bit k: axis k): a bead leaving through one face comes
+  // back through the other, and contacts are taken at the nearest image.
+  unsigned periodic_axes = 0;
 };
 
 struct Energy {
@@ -90,7 +93,7 @@ class DemSolver {
     skin_ = options_.skin * 2 * r_max;
     search_radius_ = 2 * r_max + skin_;
     list_skin_ = options_.list_skin * 2 * r_max;
-    cells_ = CellList<D, Space>(Grid<D>(box_lo, box_hi, search_radius_ + list_skin_));
+    cells_ = CellList<D, Space>(Grid<D>(box_lo, box_hi, search_radius_ + list_skin_, options_.periodic_axes));
     build_list();
     // the lightest pair collides fastest
     dt_ = options_.safety * law_.contact_time(0.5 * m_min);
@@ -259,6 +262,7 @@ class DemSolver {
     const auto wa = omega_ahead_;  // rotational: [rdim] columns
     const auto status = status_;
     const Vec<D> g = gravity_, lo = box_lo_, hi = box_hi_;
+    const Periodic<D> periodic = cells_.grid().periodic;
     const bool rotation = options_.rotation;
     const Real max_move2 = 0.25 * skin_ * skin_;
     Kokkos::parallel_for(
@@ -268,7 +272,7 @@ class DemSolver {
           for (int k = 0; k < D; ++k) {
             const Real a = (f(i, k) + fext(i, k)) / m(i) + g[k];
             v(i, k) += 0.5 * dt * a;
-            x(i, k) += dt * v(i, k);
+            x(i, k) = periodic.wrap(x(i, k) + dt * v(i, k), k);
             va(i, k) = v(i, k) + dt * a;
             move2 += dt * dt * v(i, k) * v(i, k);
             outside = outside || !(x(i, k) >= lo[k] && x(i, k) <= hi[k]);
@@ -372,12 +376,15 @@ class DemSolver {
   // Whether some bead has moved more than half the list skin since the list was built.
   bool list_due() const {
     const auto x = spheres_.x, x0 = x_listed_;
+    const Periodic<D> periodic = cells_.grid().periodic;
     Real moved2 = 0;
     Kokkos::parallel_reduce(
         "dvisph::dem::list_due", Kokkos::RangePolicy<Space>(0, spheres_.n),
         KOKKOS_LAMBDA(int i, Real& m) {
-          Real d2 = 0;
-          for (int k = 0; k < D; ++k) d2 += (x(i, k) - x0(i, k)) * (x(i, k) - x0(i, k));
+          Vec<D> moved;
+          for (int k = 0; k < D; ++k) moved[k] = x(i, k) - x0(i, k);
+          periodic.nearest_image(moved);
+          const Real d2 = dot(moved, moved);
           if (d2 > m) m = d2;
         },
         Kokkos::Max<Real>(moved2));

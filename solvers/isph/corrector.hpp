@@ -66,6 +66,7 @@ struct MoveParticles {
   Medium medium;
   Real dt;
   Vec<D> lo, hi;
+  Periodic<D> periodic;  // positions wrap along periodic axes
   int n;
 
   KOKKOS_INLINE_FUNCTION void init(value_type& r) const { r = {0, 0, n}; }
@@ -86,7 +87,7 @@ struct MoveParticles {
     const Real eps = medium.porosity(i);
     for (int k = 0; k < D; ++k) {
       const Real u = v(i, k) / eps, ut = vt(i, k) / eps;
-      x(i, k) += dt * ut;
+      x(i, k) = periodic.wrap(x(i, k) + dt * ut, k);
       v2 += u * u;
       d2 += (ut - u) * (ut - u);
       ok = ok && math::isfinite(x(i, k)) && x(i, k) >= lo[k] && x(i, k) <= hi[k];

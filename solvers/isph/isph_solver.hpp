@@ -97,7 +97,10 @@ class IsphSolver {
     rhs_ = Kokkos::View<Real**, memory_space>("dvisph::sph::rhs", n_, nrhs_);
     kind_scratch_ = Kokkos::View<Kind*, memory_space>("dvisph::sph::kind_scratch", n_);
     id_scratch_ = Kokkos::View<int*, memory_space>("dvisph::sph::id_scratch", n_);
-    cells_ = CellList<D, Space>(Grid<D>(domain_lo_, domain_hi_, kernel_.radius()));
+    cells_ = CellList<D, Space>(Grid<D>(domain_lo_, domain_hi_, kernel_.radius(), s.periodic));
+    // every axis periodic: no wall and no free surface, so the pressure is defined up to a
+    // constant (the PPE matrix is singular)
+    closed_ = s.periodic == (1u << D) - 1;
     if constexpr (is_porous<Medium>) start_coupling();
     surface_test_ = lattice_reference();
     count_kinds();
@@ -225,7 +228,8 @@ class IsphSolver {
                                              WetParticle<decltype(role_)>{role_}, medium_);
                          }});
     stages_.push_back({"move", [this] { move(); }});
-    if constexpr (is_porous<Medium>) stages_.push_back({"beads", [this] { advance_beads(); }});
+    if constexpr (is_porous<Medium>)
+      if (!scene_.solids->fixed) stages_.push_back({"beads", [this] { advance_beads(); }});
   }
 
   // Lists only for water and the walls near it (wet_cells.hpp).
@@ -238,9 +242,10 @@ class IsphSolver {
   void solve_pressure() {
     const PressurePoisson<D, Sweep, Kernel, decltype(p_.x), decltype(role_), Medium> ppe{
         list_.sweep(), kernel_, p_.x, role_, volume_, full_diagonal_, walls_, medium_,
-        scene_.ghost_air == "everywhere"};
+        scene_.ghost_air == "everywhere", !closed_};
     ppe.assemble(vstar_, rho_, invariance_, rho0_, rho_ref_, g_, info_.dt, gamma_, diag_, rhs_, n_);
     ppe.warm_start(pressure_, n_);
+    if (closed_) remove_mean<Space>(rhs_, diag_, n_);
     CgResult result;
     if (store_matrix_) {
       matrix_.build(ppe, n_);
@@ -261,7 +266,8 @@ class IsphSolver {
 
   void move() {
     const MoveParticles<D, Space, decltype(p_.x), decltype(p_.v), decltype(p_.kind), Medium> mover{
-        p_.x, p_.v, transport_velocity(), p_.kind, medium_, info_.dt, domain_lo_, domain_hi_, n_};
+        p_.x, p_.v, transport_velocity(), p_.kind, medium_, info_.dt, domain_lo_, domain_hi_,
+        cells_.grid().periodic, n_};
     const auto report = mover.run();
     info_.max_speed = report.max_speed;
     info_.transport_shift = info_.dt * report.max_transport_difference;
@@ -300,7 +306,8 @@ class IsphSolver {
                       D == 3 ? 1.0 : scene_.solids->diameter, rho0_, volume_, g_};
     coupling_.emplace(o, DragLaw(c.drag, rho0_, scene_.viscosity, scene_.solids->diameter,
                                  c.switch_porosity),
-                      VanGentVirtualMass{c.virtual_mass}, beads_->box_lo(), beads_->box_hi());
+                      VanGentVirtualMass{c.virtual_mass}, beads_->box_lo(), beads_->box_hi(),
+                      scene_.periodic);
     coupling_->resize(n_);
     coupling_->fields(beads_->spheres(), p_.x, p_.v, p_.m, p_.kind, medium_, n_);
     scale_by_porosity<Space>(p_.m, medium_.eps, p_.kind, n_);
@@ -393,6 +400,7 @@ class IsphSolver {
   int nrhs_ = 1;
   int n_ = 0;
   bool gate_removed_ = false;
+  bool closed_ = false;  // all axes periodic: the PPE's right-hand side loses its mean
   bool store_matrix_;
   std::vector<int> counts_;
 

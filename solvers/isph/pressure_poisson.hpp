@@ -52,6 +52,7 @@ struct PressurePoisson {
   TankWalls<D> walls;
   Medium medium = {};
   bool air_everywhere = true;  // numerics.ghost_air
+  bool air = true;             // false where there is no free surface (every axis periodic)
 
   // A_ij of a pair of unknowns or stencil particles at distance r (negative)
   KOKKOS_INLINE_FUNCTION Real coefficient(int i, int j, Real r) const {
@@ -102,7 +103,7 @@ struct PressurePoisson {
           // moves into the wall: dP/dn = rho0 vn / dt brings it to rest
           if (shepard > 0) wall_source += math::min(0, approach / shepard) / dt * lever;
           const Real si = self.medium.volume_ratio(i), eps = self.medium.porosity(i);
-          const Real air_share = wall ? 0 : self.air_everywhere ? 1 : 1 - invariance(i);
+          const Real air_share = wall || !self.air ? 0 : self.air_everywhere ? 1 : 1 - invariance(i);
           // a full support's diagonal at this particle's mobility: a bed's lower mobility
           // is not a missing support
           const Real full = si * self.full_diagonal * self.medium.mobility(i);
@@ -153,5 +154,32 @@ struct PressurePoisson {
         });
   }
 };
+
+// Every axis periodic (no wall, no free surface, no air): the matrix annihilates the
+// constants, so CG converges only on a right-hand side orthogonal to them. The mean of b
+// over the unknowns (diag > 0) is removed from each column; the pressure is then defined
+// up to a constant, which no gradient sees.
+template <class Space, class B, class Diag>
+void remove_mean(const B& b, const Diag& diag, int n) {
+  const int K = static_cast<int>(b.extent(1));
+  Sums<max_rhs + 1> sums;  // the columns' sums, then the count of unknowns
+  Kokkos::parallel_reduce(
+      "dvisph::pressure_poisson::rhs_mean", Kokkos::RangePolicy<Space>(0, n),
+      KOKKOS_LAMBDA(int i, Sums<max_rhs + 1>& s) {
+        if (!(diag(i) > 0)) return;
+        for (int k = 0; k < K; ++k) s.v[k] += b(i, k);
+        s.v[max_rhs] += 1;
+      },
+      sums);
+  if (!(sums.v[max_rhs] > 0)) return;
+  ColumnSums mean;
+  for (int k = 0; k < K; ++k) mean.v[k] = sums.v[k] / sums.v[max_rhs];
+  Kokkos::parallel_for(
+      "dvisph::pressure_poisson::remove_rhs_mean", Kokkos::RangePolicy<Space>(0, n),
+      KOKKOS_LAMBDA(int i) {
+        if (diag(i) > 0)
+          for (int k = 0; k < K; ++k) b(i, k) -= mean.v[k];
+      });
+}
 
 }  // namespace dvisph
