@@ -3,6 +3,7 @@
 #include "kernels/wendland_c2.hpp"
 #include "solvers/isph/isph_solver.hpp"
 #include "src/scene_beads.hpp"
+#include "tests/coupled_scenes.hpp"
 #include "tests/test_space.hpp"
 
 #include <catch2/catch.hpp>
@@ -109,6 +110,39 @@ TEST_CASE("DEM restart from a checkpoint file is bit-identical", "[checkpoint]")
   require_identical(resumed.spheres().x, straight.spheres().x, "x");
   require_identical(resumed.spheres().v, straight.spheres().v, "v");
   require_identical(resumed.spheres().omega, straight.spheres().omega, "omega");
+  std::filesystem::remove(path);
+}
+
+TEST_CASE("coupled restart (water and beads) from a checkpoint file is bit-identical", "[checkpoint]") {
+  const Scene s = parse_scene(testing::coupled_blob);
+  using Solver = IsphSolver<3, WendlandC2<3>, TestSpace, PorousMedium<3, TestSpace>>;
+  auto straight_beads = scene_dem<3, TestSpace>(s), first_beads = scene_dem<3, TestSpace>(s);
+  Solver straight(s, &straight_beads), first(s, &first_beads);
+  for (int k = 0; k < 6; ++k) straight.step();
+  for (int k = 0; k < 3; ++k) first.step();
+  const std::string path = temp_file("dvisph_tst_checkpoint_coupled.h5");
+  Checkpoint c;
+  first.save(c);
+  first_beads.save(c);
+  c.write(path);
+
+  auto resumed_beads = scene_dem<3, TestSpace>(s);
+  Solver resumed(s, &resumed_beads);
+  const Checkpoint r = Checkpoint::read(path);
+  resumed_beads.restore(r);
+  resumed.restore(r);
+  for (int k = 0; k < 3; ++k) resumed.step();
+  REQUIRE(resumed.info().t == straight.info().t);
+  const auto rows = Kokkos::make_pair(0, straight.size());
+  require_identical(Kokkos::subview(resumed.particles().x, rows, Kokkos::ALL),
+                    Kokkos::subview(straight.particles().x, rows, Kokkos::ALL), "x");
+  require_identical(Kokkos::subview(resumed.particles().v, rows, Kokkos::ALL),
+                    Kokkos::subview(straight.particles().v, rows, Kokkos::ALL), "v");
+  require_identical(Kokkos::subview(resumed.pressure(), rows, Kokkos::ALL),
+                    Kokkos::subview(straight.pressure(), rows, Kokkos::ALL), "pressure");
+  require_identical(resumed_beads.spheres().x, straight_beads.spheres().x, "bead x");
+  require_identical(resumed_beads.spheres().v, straight_beads.spheres().v, "bead v");
+  require_identical(resumed_beads.spheres().f_ext, straight_beads.spheres().f_ext, "bead f_ext");
   std::filesystem::remove(path);
 }
 
