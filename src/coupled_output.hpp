@@ -134,12 +134,9 @@ class CoupledOutput {
     for (int k = 0; k < D; ++k) g += s_.gravity[k] * s_.gravity[k];
     const double drive = s_.density * std::sqrt(g);  // Pa/m
     const double q = q_.back();
-    // Ergun's q for this drive (the root of ergun_gradient(eps, q) = drive)
-    double lo = 0, hi = 10;
-    for (int it = 0; it < 200; ++it) {
-      const double mid = 0.5 * (lo + hi);
-      (ergun_gradient(eps, mid) < drive ? lo : hi) = mid;
-    }
+    // Ergun's q for this drive: the positive root of ergun_gradient(eps, q) = drive, a q^2 + b q
+    const double a = 0.5 * (ergun_gradient(eps, 2) - 2 * ergun_gradient(eps, 1)), b = ergun_gradient(eps, 1) - a;
+    const double q_ergun = (-b + std::sqrt(b * b + 4 * a * drive)) / (2 * a);
     const std::size_t k80 = static_cast<std::size_t>(0.8 * (q_.size() - 1));
     // the spread of the porosity the water sees
     const auto e = fluid_.medium().eps;
@@ -167,7 +164,7 @@ class CoupledOutput {
         "\"driving_over_ergun\": {:.6g}, \"ergun_superficial_velocity\": {:.6g}, "
         "\"velocity_over_ergun\": {:.6g}, \"bed_force_per_volume_along_g\": {:.6g}",
         eps, eps_lo, eps_hi, drive, q, q_[k80], ergun_gradient(eps, q), drive / ergun_gradient(eps, q),
-        0.5 * (lo + hi), q / (0.5 * (lo + hi)), force);
+        q_ergun, q / q_ergun, force);
   }
 
   // The porosity and the water's velocity u_f around bead 0, weighted by W_is: as the
