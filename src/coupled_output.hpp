@@ -98,7 +98,8 @@ class CoupledOutput {
   // particles, V_i = m_i / (eps_i rho_f) the volume of mixture a particle stands for.
   double superficial_velocity_up() const {
     const auto& p = fluid_.particles();
-    const auto v = p.v, m = p.m;
+    const auto v = p.v;
+    const auto m = p.m;
     const auto kind = p.kind;
     const auto eps = fluid_.medium().eps;
     const Vec<D> up = up_;
