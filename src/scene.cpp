@@ -370,6 +370,12 @@ void check_consistency(const Scene& s) {
   if (s.gate && !(s.gate->x > s.tank.lo[0] && s.gate->x < s.tank.hi[0]))
     throw SceneError(fmt::format("geometry.gate.x = {:g} m: must lie inside the tank ({:g}, {:g}) m",
                                  s.gate->x, s.tank.lo[0], s.tank.hi[0]));
+  if (s.gate && s.settle_until > s.gate->remove_at)
+    throw SceneError(fmt::format(
+        "numerics.settle_until = {:g} s: must not pass geometry.gate.remove_at = {:g} s (the "
+        "flow after the gate opens is undamped)", s.settle_until, s.gate->remove_at));
+  if (s.settle_until > 0 && s.fluid.empty())
+    throw SceneError("numerics.settle_until: damps the water, and the scene has no geometry.fluid");
   if (s.fluid.empty() && !s.solids)
     throw SceneError("nothing to simulate: give geometry.fluid, solids, or both");
   check_periodic(s);
@@ -382,7 +388,7 @@ void check_consistency(const Scene& s) {
       throw SceneError(fmt::format("coupling.porosity_min = {:g}: must lie in (0, 1)", c.porosity_min));
     const double h = s.h_over_dx * s.spacing;
     const double hc = c.smoothing_length > 0 ? c.smoothing_length : h;
-    if (c.smoothing_length > 0 && c.smoothing_length < h)
+    if (c.smoothing_length > 0 && c.smoothing_length < h * (1 - 1e-9))  // h written out is h
       throw SceneError(fmt::format("coupling.smoothing_length = {:g} m: below the fluid's h = "
                                    "numerics.h_over_dx * geometry.spacing = {:g} m",
                                    c.smoothing_length, h));
@@ -550,6 +556,8 @@ Scene parse_scene(const std::string& yaml_text, const std::vector<std::string>& 
   s.surface_divergence_threshold = r.number("numerics.surface_divergence_threshold");
   s.surface_density_threshold = r.number("numerics.surface_density_threshold");
   s.reorder_every = r.integer("numerics.reorder_every");
+  s.settle_until = r.number("numerics.settle_until");
+  s.settle_time = r.number("numerics.settle_time");
   s.snapshot_every = r.number("output.snapshot_every");
   s.series_every = r.integer("output.series_every");
   s.checkpoint_every = r.number("output.checkpoint_every");

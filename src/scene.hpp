@@ -71,6 +71,7 @@ struct Scene {
   double invariance_truncation[2] = {0.15, 0.4};  // full, none
   std::string ghost_air = "everywhere";
   int reorder_every = 25;
+  double settle_until = 0, settle_time = 0.01;  // damped start [s] (0: none)
 
   double snapshot_every = 0;
   int series_every = 1;

@@ -238,6 +238,13 @@ Field make_schema() {
                          "truncated diverged on a jittered tank (docs/isph.md)"),
                   integer("reorder_every", "25", 0, 1e9,
                           "steps between reorderings of particles by cell (0: never)"),
+                  number("settle_until", "s", "0", 0, inf,
+                         "a damped start: until this time the water's velocity relaxes as "
+                         "exp(-dt / settle_time) each step, so that water set on a lattice "
+                         "(and a bed in it) settles into the solver's equilibrium (0: none); "
+                         "at most geometry.gate.remove_at"),
+                  number("settle_time", "s", "0.01", 0, inf,
+                         "time scale of the damped start's relaxation", true),
               },
               "numerical parameters"),
           map("output", false,

@@ -7,6 +7,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <cmath>
+
 using namespace dvisph;
 
 namespace {
@@ -43,6 +46,31 @@ TEST_CASE("a scene runs only the stages it needs", "[isph]") {
   CHECK(stage_names(b) == std::vector<std::string>{"gate", "neighbors", "density_and_roles",
                                                    "predictor_viscous", "pressure_poisson",
                                                    "corrector", "move"});
+}
+
+TEST_CASE("a damped start scales the corrected velocity by exp(-dt / settle_time)", "[isph]") {
+  const Scene plain = parse_scene(tank_2d);
+  const Scene damped = parse_scene(tank_2d, {"numerics.settle_until=0.1", "numerics.settle_time=0.004"});
+  IsphSolver<2, WendlandC2<2>, TestSpace> a(plain), b(damped);
+  const auto names = stage_names(b);
+  CHECK(std::find(names.begin(), names.end(), "settle_damping") - std::find(names.begin(), names.end(), "corrector") == 1);
+  const double dt = a.info().dt;
+  REQUIRE(dt == b.info().dt);
+  a.step();
+  b.step();
+  auto va = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.particles().v);
+  auto vb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b.particles().v);
+  auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.particles().kind);
+  const double factor = std::exp(-dt / 0.004);
+  double worst = 0, largest = 0;
+  for (int i = 0; i < a.size(); ++i)
+    for (int k = 0; k < 2; ++k) {
+      const double expect = kind(i) == Kind::fluid ? factor * va(i, k) : va(i, k);
+      worst = std::max(worst, std::abs(vb(i, k) - expect));
+      largest = std::max(largest, std::abs(va(i, k)));
+    }
+  REQUIRE(largest > 0);
+  CHECK(worst <= 1e-14 * largest);
 }
 
 namespace {

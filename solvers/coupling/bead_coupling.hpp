@@ -6,11 +6,12 @@
 //    porosity eps_i = max(eps_min, 1 - S_i), solid velocity v_s,i (the V_s W_is-weighted
 //    mean), C_r(eps_i), the volume ratio m_i / (eps_i rho_f V_ref) and the drag rate
 //    beta_i = K(eps_i, |u_i - v_s,i|) / (eps_i rho_f) of the drag law, at the step's
-//    start velocity; they fill the porous medium (solvers/isph/medium.hpp);
+//    start velocity, and the mobility it gives the step dt; they fill the porous medium
+//    (solvers/isph/medium.hpp);
 //  - at beads, over the fluid particles (forces): what each fluid particle i gives the
 //    beads, E_i = (1 - eps_i) V_i grad P_i (the beads' buoyancy: the water keeps only
-//    eps_i of its pressure force) + m_i drag_i (the reaction of the drag the predictor
-//    applied), split among the beads by V_s W_is / S_i. The split sums to 1 over the
+//    eps_i of its pressure force) + m_i drag_i (the reaction of the drag at the
+//    corrected velocity), split among the beads by V_s W_is / S_i. The split sums to 1 over the
 //    beads, so what the water gains the beads lose, to round-off. Wet wall particles
 //    give (1 - eps_j) V_ref rho_f g, their hydrostatic share (momentum from the walls).
 // In 2D a bead is a sphere in a slab one diameter deep: V_s is its volume over that depth
@@ -48,7 +49,7 @@ class BeadCoupling {
   // The medium's fields at the first n SPH particles (fluid ones; walls get clear water).
   template <class X, class V, class M, class KindV>
   void fields(const dem::Spheres<D, Space>& beads, const X& x, const V& v, const M& m,
-              const KindV& kind, const PorousMedium<D, Space>& medium, int n) {
+              const KindV& kind, const PorousMedium<D, Space>& medium, Real dt, int n) {
     cells_.build(beads.x, beads.n);
     const CellSweep<D, Space> sweep(cells_, beads.x, kernel_.radius());
     const auto kernel = kernel_;
@@ -82,9 +83,12 @@ class BeadCoupling {
             medium.grad_p(i, k) = 0;
           }
           medium.eps(i) = eps;
-          medium.inv_cr(i) = 1 / cr(eps);
+          const Real c = 1 / cr(eps);
+          medium.inv_cr(i) = c;
           medium.ratio(i) = fluid ? m(i) / (eps * o.rho_f * o.volume) : 1;
-          medium.beta(i) = fluid && solid > 0 ? drag(eps, math::sqrt(slip2)) / (eps * o.rho_f) : 0;
+          const Real beta = fluid && solid > 0 ? drag(eps, math::sqrt(slip2)) / (eps * o.rho_f) : 0;
+          medium.beta(i) = beta;
+          medium.mob(i) = eps * c / (1 + dt * beta * c);
           if (!fluid)
             for (int k = 0; k < D; ++k) medium.grad_p(i, k) = o.rho_f * o.g[k];
           solid_out(i) = solid;

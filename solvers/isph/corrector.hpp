@@ -31,12 +31,13 @@ void corrector(const Sweep& sweep, const Kernel& kernel, const X& x, const VStar
         });
         Vec<D> grad;
         for (int k = 0; k < D; ++k) grad[k] = volume * ga[k];
-        medium.keep_pressure_gradient(i, grad);
         const Real s = dt * volume / rho0 * medium.mobility(i);
+        Vec<D> vi;
         for (int k = 0; k < D; ++k) {
           vt(i, k) = vstar(i, k) - s * gb[k];
-          v(i, k) = vstar(i, k) - s * ga[k];
+          v(i, k) = vi[k] = vstar(i, k) - s * ga[k];
         }
+        medium.keep_corrected(i, grad, vi);
       });
 }
 

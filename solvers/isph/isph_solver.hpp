@@ -15,6 +15,7 @@
 #include "solvers/isph/medium.hpp"
 #include "solvers/isph/poisson_matrix.hpp"
 #include "solvers/isph/roles.hpp"
+#include "solvers/isph/settle_damping.hpp"
 #include "solvers/isph/wet_cells.hpp"
 #include "solvers/pcg.hpp"
 #include "src/neighbor_list.hpp"
@@ -205,7 +206,7 @@ class IsphSolver {
     stages_.push_back({"neighbors", [this] { find_neighbors(); }});
     if constexpr (is_porous<Medium>)
       stages_.push_back({"bead_fields", [this] {
-                           coupling_->fields(beads_->spheres(), p_.x, p_.v, p_.m, p_.kind, medium_, n_);
+                           coupling_->fields(beads_->spheres(), p_.x, p_.v, p_.m, p_.kind, medium_, info_.dt, n_);
                          }});
     stages_.push_back({"density_and_roles", [this] {
                          density_and_roles<D>(list_.sweep(), kernel_, p_.x, p_.m, p_.kind, pressure_,
@@ -222,6 +223,7 @@ class IsphSolver {
                                       medium_, rho0_, volume_, info_.dt, 0, nrhs_ - 1, p_.v,
                                       transport_velocity(), n_);
                        }});
+    if (scene_.settle_until > 0) stages_.push_back({"settle_damping", [this] { damp_when_settling(); }});
     if constexpr (is_porous<Medium>)
       stages_.push_back({"bead_forces", [this] {
                            coupling_->forces(beads_->spheres(), cells_, p_.x, p_.m, p_.kind,
@@ -284,6 +286,13 @@ class IsphSolver {
     }
   }
 
+  void damp_when_settling() {
+    if (info_.t >= scene_.settle_until) return;
+    const Real factor = std::exp(-info_.dt / scene_.settle_time);
+    settle_damping<D, Space>(p_.v, p_.kind, factor, n_);
+    if (nrhs_ == 2) settle_damping<D, Space>(vt_, p_.kind, factor, n_);
+  }
+
   // The beads over the fluid step, with the water's forces held (DEM sub-steps); the
   // fastest bead joins the fluid's CFL limit.
   void advance_beads() {
@@ -309,7 +318,7 @@ class IsphSolver {
                       VanGentVirtualMass{c.virtual_mass}, beads_->box_lo(), beads_->box_hi(),
                       scene_.periodic);
     coupling_->resize(n_);
-    coupling_->fields(beads_->spheres(), p_.x, p_.v, p_.m, p_.kind, medium_, n_);
+    coupling_->fields(beads_->spheres(), p_.x, p_.v, p_.m, p_.kind, medium_, 0, n_);
     scale_by_porosity<Space>(p_.m, medium_.eps, p_.kind, n_);
   }
   std::size_t coupling_bytes() const {

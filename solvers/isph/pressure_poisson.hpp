@@ -93,8 +93,8 @@ struct PressurePoisson {
             wall_source += w * dot(g, xij);
             if (wall && water(rj)) {
               const Real W = self.kernel.W(r);
-              const Real k = self.medium.porosity(j) * self.medium.inverse_virtual_mass(j);
-              approach += W * (dot(vj, n) - dt * (k * dot(g, n)));
+              // gravity's share of v*_j (the predictor's, drag included)
+              approach += W * (dot(vj, n) - dt * (self.medium.mobility(j) * dot(g, n)));
               shepard += W;
               lever += w * dot(n, xij);
             }
