@@ -15,7 +15,7 @@
 #include "benchmarks/records.hpp"
 #include "benchmarks/timer.hpp"
 #include "solvers/dem/dem_solver.hpp"
-#include "src/lattice.hpp"
+#include "src/core/lattice.hpp"
 
 #include <fmt/core.h>
 

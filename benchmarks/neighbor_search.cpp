@@ -7,9 +7,9 @@
 #include "kernels/cubic_spline.hpp"
 #include "kernels/summation_density.hpp"
 #include "src/backend.hpp"
-#include "src/lattice.hpp"
-#include "src/neighbor_list.hpp"
-#include "src/reorder.hpp"
+#include "src/core/lattice.hpp"
+#include "src/core/neighbor_list.hpp"
+#include "src/core/reorder.hpp"
 
 #include <fmt/core.h>
 

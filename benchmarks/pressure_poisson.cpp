@@ -25,8 +25,8 @@
 #include "solvers/isph/predictor.hpp"
 #include "solvers/isph/free_surface.hpp"
 #include "solvers/isph/poisson_matrix.hpp"
-#include "src/neighbor_list.hpp"
-#include "src/reorder.hpp"
+#include "src/core/neighbor_list.hpp"
+#include "src/core/reorder.hpp"
 #include "src/scene_particles.hpp"
 
 #include <Eigen/IterativeLinearSolvers>

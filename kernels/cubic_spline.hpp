@@ -1,6 +1,6 @@
 #pragma once
 // Cubic B-spline kernel (Monaghan 1992), support radius 2h.
-#include "src/types.hpp"
+#include "src/core/types.hpp"
 
 namespace dvisph {
 

@@ -1,6 +1,6 @@
 #pragma once
 // <div v>_i = sum_j (m_j / rho_i) (v_j - v_i) . grad W_ij   (exact for constant v)
-#include "src/types.hpp"
+#include "src/core/types.hpp"
 
 namespace dvisph {
 

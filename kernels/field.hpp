@@ -1,7 +1,7 @@
 #pragma once
 // Uniform access to per-particle fields of any rank: a scalar field is an (n) view,
 // a vector or multi-column field an (n x c) view. Operators loop over components.
-#include "src/types.hpp"
+#include "src/core/types.hpp"
 
 namespace dvisph {
 

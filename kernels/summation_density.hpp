@@ -1,6 +1,6 @@
 #pragma once
 // <rho_i> = sum_j m_j W_ij
-#include "src/types.hpp"
+#include "src/core/types.hpp"
 
 namespace dvisph {
 

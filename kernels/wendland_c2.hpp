@@ -1,6 +1,6 @@
 #pragma once
 // Wendland C2 kernel (Wendland 1995; Dehnen & Aly 2012), support radius 2h.
-#include "src/types.hpp"
+#include "src/core/types.hpp"
 
 namespace dvisph {
 

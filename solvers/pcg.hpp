@@ -4,7 +4,7 @@
 // all columns at once, so the columns share every neighbour traversal; one
 // right-hand side is the special case K = 1. Each column has its own CG scalars
 // and stops on its own relative residual.
-#include "src/types.hpp"
+#include "src/core/types.hpp"
 
 #include <cmath>
 #include <string>

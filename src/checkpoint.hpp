@@ -3,7 +3,7 @@
 // bit-identically (`dvisph run --restart`). The file is written under a temporary name
 // and renamed over the old one, so a run killed at any moment leaves the previous
 // checkpoint or the new one, never a half-written file.
-#include "src/types.hpp"
+#include "src/core/types.hpp"
 
 #include <map>
 #include <stdexcept>

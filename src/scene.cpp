@@ -1,6 +1,6 @@
 #include "src/scene.hpp"
 
-#include "src/lattice_sites.hpp"
+#include "src/core/lattice_sites.hpp"
 #include "src/schema.hpp"
 
 #include <fmt/format.h>
@@ -14,7 +14,7 @@
 namespace dvisph {
 namespace {
 
-// The most particles, beads or grid cells a run may have: src/grid.hpp refuses more
+// The most particles, beads or grid cells a run may have: src/core/grid.hpp refuses more
 // cells, and particles are indexed by int.
 constexpr double max_count = 1 << 30;
 

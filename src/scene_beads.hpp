@@ -2,7 +2,7 @@
 // The DEM side of a scene (setup only): beads from lattice boxes, single beads or a
 // saved bed; the tank's faces and the gate as planes; the contact law.
 #include "solvers/dem/dem_solver.hpp"
-#include "src/lattice.hpp"
+#include "src/core/lattice.hpp"
 #include "src/scene.hpp"
 #include "src/scene_particles.hpp"
 

@@ -3,7 +3,7 @@
 // scene spacing, tank walls as `wall_layers` layers outside the inner faces, and the
 // gate as layers on the downstream side of its plane. Every particle has the volume
 // dx^D, so the Laplacian pair weights are symmetric.
-#include "src/lattice.hpp"
+#include "src/core/lattice.hpp"
 #include "src/scene.hpp"
 
 #include <vector>

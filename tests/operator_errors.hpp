@@ -5,9 +5,9 @@
 #include "kernels/divergence.hpp"
 #include "kernels/gradient.hpp"
 #include "kernels/laplacian.hpp"
-#include "src/cell_list.hpp"
-#include "src/lattice.hpp"
-#include "src/neighbor_sweep.hpp"
+#include "src/core/cell_list.hpp"
+#include "src/core/lattice.hpp"
+#include "src/core/neighbor_sweep.hpp"
 
 #include <algorithm>
 #include <numeric>

@@ -2,7 +2,7 @@
 // analytic gradient against a finite difference of W.
 #include "kernels/cubic_spline.hpp"
 #include "kernels/wendland_c2.hpp"
-#include "src/lattice.hpp"
+#include "src/core/lattice.hpp"
 #include "tests/test_space.hpp"
 
 #include <catch2/catch.hpp>

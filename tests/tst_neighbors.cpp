@@ -2,7 +2,7 @@
 // pair set, in 2D and 3D, in a non-cubic box, with particles on cell faces, for a
 // query set with a radius other than the cell size, and across periodic faces (pairs at
 // their nearest image).
-#include "src/neighbor_list.hpp"
+#include "src/core/neighbor_list.hpp"
 #include "tests/test_space.hpp"
 
 #include <catch2/catch.hpp>

@@ -5,7 +5,7 @@
 #include "kernels/wendland_c2.hpp"
 #include "solvers/isph/free_surface.hpp"
 #include "solvers/isph/poisson_matrix.hpp"
-#include "src/neighbor_list.hpp"
+#include "src/core/neighbor_list.hpp"
 #include "src/scene_particles.hpp"
 #include "tests/test_space.hpp"
 

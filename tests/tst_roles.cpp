@@ -4,7 +4,7 @@
 #include "kernels/wendland_c2.hpp"
 #include "solvers/isph/free_surface.hpp"
 #include "src/metrics.hpp"
-#include "src/neighbor_list.hpp"
+#include "src/core/neighbor_list.hpp"
 #include "tests/test_space.hpp"
 
 #include <catch2/catch.hpp>

@@ -20,7 +20,7 @@
 #include "solvers/coupling/virtual_mass.hpp"
 #include "solvers/dem/spheres.hpp"
 #include "solvers/isph/medium.hpp"
-#include "src/neighbor_sweep.hpp"
+#include "src/core/neighbor_sweep.hpp"
 
 namespace dvisph {
 

@@ -6,7 +6,7 @@
 // K [kg/(m^3 s)] (drag on the fluid per unit volume -K (u_f - u_s), as ErgunWenYu).
 // Its C_d is larger than Schiller-Naumann's at the Reynolds numbers of a settling
 // 2.7 mm glass bead, so the terminal velocities differ (docs/coupling.md).
-#include "src/types.hpp"
+#include "src/core/types.hpp"
 
 namespace dvisph {
 

@@ -8,7 +8,7 @@
 //   -dP/dx = 150 mu (1-eps)^2 q / (eps^3 d^2) + 1.75 rho (1-eps) q^2 / (eps^3 d).
 // Above eps_d the Wen-Yu form gives one bead in clear water the Schiller-Naumann drag
 // C_d pi d^2/8 rho |u| u, times eps^-1.65.
-#include "src/types.hpp"
+#include "src/core/types.hpp"
 
 namespace dvisph {
 

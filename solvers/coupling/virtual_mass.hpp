@@ -2,7 +2,7 @@
 // Virtual-mass coefficient C_r(eps) = 1 + 0.34 (1 - eps) / eps (van Gent 1995, as in
 // Shao 2010's porous ISPH): water in a bed accelerates with part of the grains around it.
 // `off` gives C_r = 1 (coupling.virtual_mass: none).
-#include "src/types.hpp"
+#include "src/core/types.hpp"
 
 namespace dvisph {
 

@@ -8,7 +8,7 @@
 // keeps the history right when partners change cells or the particle order changes.
 // A contact that does not fit is counted; the solver reports the count as an error.
 #include "src/checkpoint.hpp"
-#include "src/types.hpp"
+#include "src/core/types.hpp"
 
 #include <string>
 #include <utility>

@@ -2,7 +2,7 @@
 // DEM for the glass beads (method.md §3): spheres, plane walls, the linear spring-dashpot
 // law with Coulomb friction, gravity and an external force per bead held over a fluid
 // step. Velocity Verlet: half kick, drift, contact forces, half kick. Contacts are taken
-// from a Verlet list (src/neighbor_list.hpp) of the pairs within the contact search
+// from a Verlet list (src/core/neighbor_list.hpp) of the pairs within the contact search
 // radius plus a list skin, built from a cell list and rebuilt only once some bead has
 // moved more than half the list skin since the last build, so no pair that can touch is
 // missing; binning and searching every step cost 3.8x LIGGGHTS' time on the bead-bed
@@ -12,10 +12,10 @@
 #include "solvers/dem/linear_spring_dashpot.hpp"
 #include "solvers/dem/plane_wall.hpp"
 #include "solvers/dem/spheres.hpp"
-#include "src/extrema.hpp"
-#include "src/neighbor_list.hpp"
-#include "src/neighbor_sweep.hpp"
-#include "src/reorder.hpp"
+#include "src/core/extrema.hpp"
+#include "src/core/neighbor_list.hpp"
+#include "src/core/neighbor_sweep.hpp"
+#include "src/core/reorder.hpp"
 
 #include <fmt/format.h>
 

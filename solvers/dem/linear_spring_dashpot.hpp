@@ -23,7 +23,7 @@
 // the start or end and its value at t otherwise, and the tangential force acts for the
 // fraction of the interval in contact. Inside a contact this is velocity Verlet with the
 // dashpot evaluated at the predicted synchronous velocity, second order in dt.
-#include "src/types.hpp"
+#include "src/core/types.hpp"
 
 #include <cmath>
 #include <stdexcept>

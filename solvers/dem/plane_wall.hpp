@@ -2,7 +2,7 @@
 // An infinite plane that beads touch with the contact law (m* = m of the bead). A tank
 // is a set of planes; a gate is a plane removed at a given time. Planes are infinite, so
 // a tank's planes must not cut through the region where beads live.
-#include "src/types.hpp"
+#include "src/core/types.hpp"
 
 #include <cmath>
 #include <limits>

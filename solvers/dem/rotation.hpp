@@ -2,7 +2,7 @@
 // Rigid-body rotation in D dimensions. A 3D bead spins about any axis; a 2D bead is a
 // sphere moving in a plane, so it spins about z only and its angular velocity (and any
 // torque on it) has one component.
-#include "src/types.hpp"
+#include "src/core/types.hpp"
 
 namespace dvisph::dem {
 

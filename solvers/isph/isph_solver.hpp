@@ -18,11 +18,11 @@
 #include "solvers/isph/settle_damping.hpp"
 #include "solvers/isph/wet_cells.hpp"
 #include "solvers/pcg.hpp"
-#include "src/neighbor_list.hpp"
+#include "src/core/neighbor_list.hpp"
 #include "src/numerical_error.hpp"
 #include "src/checkpoint.hpp"
-#include "src/particles.hpp"
-#include "src/reorder.hpp"
+#include "src/core/particles.hpp"
+#include "src/core/reorder.hpp"
 #include "src/scene_particles.hpp"
 
 #include <fmt/format.h>

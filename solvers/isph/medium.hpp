@@ -23,7 +23,7 @@
 // Clear water is the medium whose values are the constants eps = 1, C_r = 1, so a
 // water-only scene holds and reads no such fields, and multiplying by them is exact:
 // clear-water results are bit-identical to a solver without media.
-#include "src/types.hpp"
+#include "src/core/types.hpp"
 
 namespace dvisph {
 

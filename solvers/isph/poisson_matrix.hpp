@@ -6,7 +6,7 @@
 // per pair (3D: ~1.4 kB per particle). The matrix-free operator stays the choice where
 // memory is short (numerics.pressure_operator).
 #include "solvers/isph/pressure_poisson.hpp"
-#include "src/csr_rows.hpp"
+#include "src/core/csr_rows.hpp"
 
 namespace dvisph {
 

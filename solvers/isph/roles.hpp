@@ -25,7 +25,7 @@
 //    would be negative lies beside the free surface: Dirichlet P = 0, so that it does
 //    not pull the water up the wall; the others are unknowns.
 #include "solvers/isph/medium.hpp"
-#include "src/types.hpp"
+#include "src/core/types.hpp"
 
 namespace dvisph {
 

@@ -6,7 +6,7 @@
 // motion that finds it hardly decays: 3 mm/s rms after 0.5 s in bed_hydrostatic's tank
 // without beads. Damped, the water and a bed settle into that equilibrium and the run
 // after settle_until is free (docs/coupling.md).
-#include "src/types.hpp"
+#include "src/core/types.hpp"
 
 namespace dvisph {
 

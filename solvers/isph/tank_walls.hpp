@@ -6,7 +6,7 @@
 // how deep a point lies inside the walls, for the wall-penetration figure. Walls are
 // static: the wall condition takes their velocity as 0.
 #include "src/scene.hpp"
-#include "src/types.hpp"
+#include "src/core/types.hpp"
 
 namespace dvisph {
 

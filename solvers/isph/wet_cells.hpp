@@ -5,7 +5,7 @@
 // (3D dam break, dx = 3 mm: 46 000 wall particles for 8 400 fluid ones); they get no
 // neighbour list. Cells are at least a kernel radius wide, so every particle with a
 // fluid neighbour is near a wet cell.
-#include "src/cell_list.hpp"
+#include "src/core/cell_list.hpp"
 
 namespace dvisph {
 

@@ -1,7 +1,7 @@
 #pragma once
 // Reordering of per-particle fields by a permutation (e.g. the cell list's, so that
 // particles close in space are close in memory).
-#include "src/types.hpp"
+#include "src/core/types.hpp"
 
 namespace dvisph {
 

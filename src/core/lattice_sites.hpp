@@ -1,5 +1,5 @@
 #pragma once
-// How many lattice points fit along a side, shared by lattice() (src/lattice.hpp) and the
+// How many lattice points fit along a side, shared by lattice() (src/core/lattice.hpp) and the
 // scene checks (src/scene.cpp), which must count without Kokkos.
 #include <cmath>
 

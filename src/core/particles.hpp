@@ -3,7 +3,7 @@
 // (fluid and wall particles together, told apart by `kind`); scratch fields of a
 // solver live in the solver. Default View layouts give x(i, k) contiguous per
 // particle on CPUs and coalesced per component on GPUs.
-#include "src/types.hpp"
+#include "src/core/types.hpp"
 
 #include <string>
 

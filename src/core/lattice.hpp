@@ -1,7 +1,7 @@
 #pragma once
 // Host-side generation of lattice points (setup only, never in the time step).
-#include "src/lattice_sites.hpp"
-#include "src/types.hpp"
+#include "src/core/lattice_sites.hpp"
+#include "src/core/types.hpp"
 
 #include <cmath>
 #include <random>

@@ -2,7 +2,7 @@
 // Largest and smallest entry of a per-particle array, reduced on its own space.
 // (Free functions rather than lambdas in constructors: nvcc allows device lambdas
 // only in functions whose address can be taken.)
-#include "src/types.hpp"
+#include "src/core/types.hpp"
 
 namespace dvisph {
 

@@ -2,8 +2,8 @@
 // A stored neighbour list (CSR), built once from a CellSweep and then swept many
 // times in one step (e.g. by the CG iterations). Same for_each interface as
 // CellSweep, same pair order, so the two are interchangeable in every kernel.
-#include "src/csr_rows.hpp"
-#include "src/neighbor_sweep.hpp"
+#include "src/core/csr_rows.hpp"
+#include "src/core/neighbor_sweep.hpp"
 
 namespace dvisph {
 

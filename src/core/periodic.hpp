@@ -2,7 +2,7 @@
 // Periodic axes of a box: a particle that leaves through one face comes back through the
 // opposite one, and a pair is seen at its nearest image. Shared by the grid (cells wrap),
 // every neighbour sweep (pair vectors wrap) and the moves (positions wrap).
-#include "src/types.hpp"
+#include "src/core/types.hpp"
 
 namespace dvisph {
 

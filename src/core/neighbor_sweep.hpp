@@ -4,7 +4,7 @@
 // |xi - xj| < radius, xij = xi - xj. The query point may belong to another set
 // (fluid-solid with a different radius): `i` is only used by stored lists.
 // Self pairs (j == i within one set) are visited; kernels give them zero gradient.
-#include "src/cell_list.hpp"
+#include "src/core/cell_list.hpp"
 
 #include <cmath>
 #include <stdexcept>

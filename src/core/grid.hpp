@@ -3,7 +3,7 @@
 // cell list (binning) and every neighbour sweep that reads it. Along a periodic axis
 // the cells tile the box exactly (the last one absorbs the remainder, so no cell is
 // smaller than the cell size) and a neighbourhood of cells wraps around.
-#include "src/periodic.hpp"
+#include "src/core/periodic.hpp"
 
 #include <cmath>
 #include <stdexcept>

@@ -2,7 +2,7 @@
 // The row layout of a compressed sparse row (CSR) structure, shared by the stored
 // neighbour list and the stored PPE matrix: count each row's entries, prefix-sum the
 // counts into offsets, size the entry arrays.
-#include "src/types.hpp"
+#include "src/core/types.hpp"
 
 #include <string>
 

@@ -4,7 +4,7 @@
 // The last stage makes the layout independent of thread scheduling, so every
 // neighbour sweep visits pairs in the same order on every backend (bitwise
 // reproducible sums on a given backend, and Serial/OpenMP agreement).
-#include "src/grid.hpp"
+#include "src/core/grid.hpp"
 
 namespace dvisph {
 
