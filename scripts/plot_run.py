@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """Plots of a run directory (written by `dvisph run`): the surge front against Martin &
-Moyce (1952) for dam breaks, pressure against depth for hydrostatic tanks, energy and
+Moyce (1952) for dam breaks (and the bead front where there are beads; time from the
+gate's removal), pressure against depth for hydrostatic tanks, energy and
 bed height for bead runs, the bead front for a dry collapse.
 Usage: plot_run.py RUN_DIR [more RUN_DIRs with the same metrics kind] [-o PNG]"""
 import argparse
@@ -54,9 +55,17 @@ def plot_front(runs, png, labels=None):
         g = abs(sc.get("material", {}).get("gravity", [0, -9.81])[-1])
         summary = json.load(open(os.path.join(run, "summary.json")))
         rms = summary["metrics"].get("front_rms_deviation_T1_3", float("nan"))
-        name = labels[n] if labels else f"{sc.get('name', run)}: a/dx = {a / sc['geometry']['spacing']:.0f}"
+        num = sc.get("numerics", {})
+        method = f", alpha {num['alpha']:g} beta {num['beta']:g}" if "alpha" in num and "beta" in num else ""
+        name = labels[n] if labels else f"{sc.get('name', run)}: a/dx = {a / sc['geometry']['spacing']:.0f}{method}"
         label = f"{name}, RMS dev. (T 1-3) {100 * rms:.1f} %"
-        ax.plot(s["t"] * np.sqrt(2 * g / a), s["front"] / a, "-", label=label)
+        # time from the gate's removal, as the run's figures count it
+        t0 = sc["geometry"].get("gate", {}).get("remove_at", 0)
+        after = s["t"] >= t0
+        T = (s["t"][after] - t0) * np.sqrt(2 * g / a)
+        line, = ax.plot(T, s["front"][after] / a, "-", label=label)
+        if "bead_front" in s:
+            ax.plot(T, s["bead_front"][after] / a, "--", color=line.get_color(), label=f"{name}: bead front")
     ax.set_xlabel("T = t sqrt(2g/a)")
     ax.set_ylabel("Z = z/a")
     ax.set_xlim(0, 4)
@@ -126,11 +135,12 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("runs", nargs="+")
     ap.add_argument("-o", "--output", help="PNG file (default: RUN_DIR/<kind>.png)")
+    ap.add_argument("--labels", help="legend names separated by ;, one per RUN_DIR (dam breaks)")
     args = ap.parse_args()
     kind = scene_of(args.runs[0]).get("metrics", {}).get("kind", "none")
     if kind == "dam_break":
         png = args.output or os.path.join(args.runs[0], "front.png")
-        plot_front(args.runs, png)
+        plot_front(args.runs, png, args.labels.split(";") if args.labels else None)
     elif kind == "hydrostatic":
         png = args.output or os.path.join(args.runs[0], "pressure.png")
         plot_pressure(args.runs, png)

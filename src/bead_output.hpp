@@ -72,7 +72,7 @@ class BeadOutput {
         Kokkos::Max<Real>(speed), Kokkos::Max<Real>(front), Kokkos::Max<Real>(top));
     front -= s_.tank.lo[0];
     if (s_.metrics_kind == "bead_collapse") {
-      collapse_T_ = dem_.time() * std::sqrt(2 * g_ / s_.column_width);
+      collapse_T_ = (dem_.time() - s_.metrics_origin()) * std::sqrt(2 * g_ / s_.column_width);
       collapse_Z_ = front / s_.column_width;
     }
     return fmt::format("{:.9g},{:.9g},{:.6g},{:.6g},{:.6g}", e.kinetic, e.total(), speed, front,

@@ -63,13 +63,14 @@ class FluidOutput {
                                                    solver_.medium());
       worst_.max = std::max(worst_.max, derr.max);
       worst_.p95 = std::max(worst_.p95, derr.p95);
-      if (s_.density_error_at > 0 && at_.t < 0 && info.t >= s_.density_error_at - 1e-12)
-        at_ = {info.t, derr, density_error_.histogram()};
+      const double since = info.t - s_.metrics_origin();
+      if (s_.density_error_at > 0 && at_.t < 0 && since >= s_.density_error_at - 1e-12)
+        at_ = {since, derr, density_error_.histogram()};
     }
     wall_penetration_ =
         std::max(wall_penetration_, wall_penetration<D, Space>(p.x, p.kind, solver_.size(), walls_));
-    if (dam_break_) {
-      front_.T.push_back(info.t * std::sqrt(2 * g_ / s_.column_width));
+    if (dam_break_ && info.t >= s_.metrics_origin()) {
+      front_.T.push_back((info.t - s_.metrics_origin()) * std::sqrt(2 * g_ / s_.column_width));
       front_.Z.push_back(front / s_.column_width);
     }
     return fmt::format("{},{:.3g},{:.6g},{:.6g},{:.6g},{:.6g}", info.cg_iterations, info.cg_residual,

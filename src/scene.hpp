@@ -35,6 +35,8 @@ struct Scene {
     double x, remove_at;
   };
   std::optional<Gate> gate;
+  // the time from which the figures of a gated scene count (metrics.*): the gate's removal
+  double metrics_origin() const { return gate ? gate->remove_at : 0; }
 
   struct Bead {
     std::vector<double> x, v;

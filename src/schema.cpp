@@ -266,11 +266,12 @@ Field make_schema() {
                          "scene-specific figures in summary.json"),
                   number("column_width", "m", "0", 0, inf,
                          "dam_break: width a of the initial water column (Z = z/a, "
-                         "T = t sqrt(2 g / a))"),
+                         "T = t sqrt(2 g / a), t from the gate's removal)"),
                   number("water_height", "m", "0", 0, inf,
                          "hydrostatic, bed_hydrostatic: still-water height H for P = rho g (H - y)"),
                   number("density_error_at", "s", "0", 0, inf,
-                         "water: time at which the density error's p50, p95, p99 and max go "
+                         "water: time (from the gate's removal, where there is a gate) at which "
+                         "the density error's p50, p95, p99 and max go "
                          "into summary.json and its histogram into density_error_histogram.csv "
                          "(the first series row at or after it; 0: none)"),
               },
