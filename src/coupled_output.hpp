@@ -42,15 +42,7 @@ class CoupledOutput {
     return "porosity_min,beads_mean_velocity_up,fluid_force_on_beads_up,superficial_velocity_along_g";
   }
   std::string series_row() {
-    const auto eps = fluid_.medium().eps;
-    const auto kind = fluid_.particles().kind;
-    Real lowest = 1;
-    Kokkos::parallel_reduce(
-        "dvisph::coupled_output::porosity_min", Kokkos::RangePolicy<Space>(0, fluid_.size()),
-        KOKKOS_LAMBDA(int i, Real& m) {
-          if (kind(i) == Kind::fluid) m = math::min(m, eps(i));
-        },
-        Kokkos::Min<Real>(lowest));
+    const Real lowest = porosity_range().min_val;
     porosity_min_ = std::min(porosity_min_, static_cast<double>(lowest));
     const auto b = bead_sums();
     velocity_up_.push_back(b.velocity_up);
@@ -75,6 +67,22 @@ class CoupledOutput {
     for (int k = 0; k < D; ++k) g += s.gravity[k] * s.gravity[k];
     for (int k = 0; k < D; ++k) up[k] = g > 0 ? -s.gravity[k] / std::sqrt(g) : (k == D - 1);
     return up;
+  }
+
+  // The range of eps_i over the fluid particles.
+  Kokkos::MinMaxScalar<Real> porosity_range() const {
+    const auto eps = fluid_.medium().eps;
+    const auto kind = fluid_.particles().kind;
+    Kokkos::MinMaxScalar<Real> range;
+    Kokkos::parallel_reduce(
+        "dvisph::coupled_output::porosity_range", Kokkos::RangePolicy<Space>(0, fluid_.size()),
+        KOKKOS_LAMBDA(int i, Kokkos::MinMaxScalar<Real>& r) {
+          if (kind(i) != Kind::fluid) return;
+          r.min_val = math::min(r.min_val, eps(i));
+          r.max_val = math::max(r.max_val, eps(i));
+        },
+        Kokkos::MinMax<Real>(range));
+    return range;
   }
 
   struct BeadSums {
@@ -140,22 +148,7 @@ class CoupledOutput {
     const double q_ergun = (-b + std::sqrt(b * b + 4 * a * drive)) / (2 * a);
     const std::size_t k80 = static_cast<std::size_t>(0.8 * (q_.size() - 1));
     // the spread of the porosity the water sees
-    const auto e = fluid_.medium().eps;
-    const auto kind = fluid_.particles().kind;
-    const auto policy = Kokkos::RangePolicy<Space>(0, fluid_.size());
-    Real eps_lo = 1, eps_hi = 0;
-    Kokkos::parallel_reduce(
-        "dvisph::coupled_output::porosity_low", policy,
-        KOKKOS_LAMBDA(int i, Real& a) {
-          if (kind(i) == Kind::fluid) a = math::min(a, e(i));
-        },
-        Kokkos::Min<Real>(eps_lo));
-    Kokkos::parallel_reduce(
-        "dvisph::coupled_output::porosity_high", policy,
-        KOKKOS_LAMBDA(int i, Real& b) {
-          if (kind(i) == Kind::fluid) b = math::max(b, e(i));
-        },
-        Kokkos::Max<Real>(eps_hi));
+    const auto seen = porosity_range();
     // the water's force on the bed per unit volume of mixture (the drive it takes up)
     const double force = -bead_sums().force_up / (box * depth);
     return fmt::format(
@@ -164,7 +157,7 @@ class CoupledOutput {
         "\"superficial_velocity_at_80_percent\": {:.6g}, \"ergun_gradient_at_q\": {:.6g}, "
         "\"driving_over_ergun\": {:.6g}, \"ergun_superficial_velocity\": {:.6g}, "
         "\"velocity_over_ergun\": {:.6g}, \"bed_force_per_volume_along_g\": {:.6g}",
-        eps, eps_lo, eps_hi, drive, q, q_[k80], ergun_gradient(eps, q), drive / ergun_gradient(eps, q),
+        eps, seen.min_val, seen.max_val, drive, q, q_[k80], ergun_gradient(eps, q), drive / ergun_gradient(eps, q),
         q_ergun, q / q_ergun, force);
   }
 

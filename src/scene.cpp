@@ -227,7 +227,7 @@ void check_solids(const Scene& s) {
                           const std::string& path) {
     for (int k = 0; k < dim; ++k) {
       const double top = k == 0 && s.gate ? s.gate->x : s.tank.hi[k];
-      const double reach = s.periodic >> k & 1u ? 0 : r;  // no face to reach past
+      const double reach = s.wraps(k) ? 0 : r;  // no face to reach past
       if (lo[k] - reach < s.tank.lo[k] - 1e-12 || hi[k] + reach > top + 1e-12)
         throw SceneError(fmt::format("{}: beads of diameter {:g} m at [{:g}, {:g}] m along axis {} "
                                      "reach outside [{:g}, {:g}] m (the tank{})",
@@ -312,10 +312,10 @@ void check_periodic(const Scene& s) {
   if (!s.periodic) return;
   const std::string axes = "xyz";
   const int last = s.dimension - 1;
-  if (s.gate && (s.periodic & 1u))
+  if (s.gate && s.wraps(0))
     throw SceneError("geometry.gate: a wall across axis x, which geometry.tank.periodic makes "
                      "periodic (a periodic axis has no walls)");
-  if ((s.periodic >> last & 1u) && s.open_top)
+  if (s.wraps(last) && s.open_top)
     throw SceneError(fmt::format("geometry.tank.periodic: axis {} wraps, but geometry.tank.open_top "
                                  "= true puts a free surface above it; set open_top: false",
                                  axes[last]));
@@ -324,7 +324,7 @@ void check_periodic(const Scene& s) {
   const double h = s.h_over_dx * s.spacing;
   const double hc = s.coupling && s.coupling->smoothing_length > 0 ? s.coupling->smoothing_length : h;
   for (int k = 0; k < s.dimension; ++k) {
-    if (!(s.periodic >> k & 1u)) continue;
+    if (!s.wraps(k)) continue;
     const double L = s.tank.hi[k] - s.tank.lo[k];
     auto need = [&](double cell, double radius, const char* what) {
       const double cells = std::floor(L / cell + 1e-9);
@@ -401,7 +401,7 @@ void check_consistency(const Scene& s) {
   }
   const bool coupled_metric = s.metrics_kind == "settling_bead" || s.metrics_kind == "bed_hydrostatic" ||
                               s.metrics_kind == "ergun_bed";
-  if (s.metrics_kind == "ergun_bed" && (s.periodic != (1u << s.dimension) - 1 || !s.solids ||
+  if (s.metrics_kind == "ergun_bed" && (!s.closed() || !s.solids ||
                                         !s.solids->fixed))
     throw SceneError("metrics.kind = ergun_bed: needs a fixed bed (solids.fixed: true) in a tank "
                      "periodic along every axis (geometry.tank.periodic)");

@@ -30,6 +30,9 @@ struct Scene {
   Box tank;
   bool open_top = true;
   unsigned periodic = 0;  // geometry.tank.periodic: bit k set when axis k wraps
+  bool wraps(int k) const { return (periodic >> k & 1u) != 0; }
+  // every axis wraps: no wall and no free surface
+  bool closed() const { return periodic == (1u << dimension) - 1; }
   std::vector<Box> fluid;
   struct Gate {
     double x, remove_at;

@@ -80,7 +80,7 @@ std::vector<dem::PlaneWall<D>> scene_walls(const Scene& s) {
   std::vector<dem::PlaneWall<D>> walls;
   for (const auto& w : dem::box_walls<D>(lo, hi)) {
     bool periodic = false;  // a face across a periodic axis is no wall
-    for (int k = 0; k < D; ++k) periodic = periodic || (w.normal[k] != 0 && (s.periodic >> k & 1u));
+    for (int k = 0; k < D; ++k) periodic = periodic || (w.normal[k] != 0 && s.wraps(k));
     if (!(s.open_top && w.normal[D - 1] < 0) && !periodic) walls.push_back(w);
   }
   if (s.gate) {
@@ -97,7 +97,7 @@ dem::DemSolver<D, Space> scene_dem(const Scene& s) {
   const auto& b = *s.solids;
   Vec<D> lo = to_vec<D>(s.tank.lo), hi = to_vec<D>(s.tank.hi), g = to_vec<D>(s.gravity);
   // room to bounce above an open top (a periodic axis is the tank's length exactly)
-  if (s.open_top && !(s.periodic >> (D - 1) & 1u)) hi[D - 1] += hi[D - 1] - lo[D - 1];
+  if (s.open_top && !s.wraps(D - 1)) hi[D - 1] += hi[D - 1] - lo[D - 1];
   dem::DemOptions<D> options;
   options.safety = b.dt_safety;
   options.rotation = b.rotation;

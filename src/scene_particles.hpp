@@ -40,14 +40,13 @@ SceneParticles<D> scene_particles(const Scene& s) {
   // lattice continued from the inner faces (open top: no shell above hi; a periodic axis
   // has none on either side)
   const Real thick = s.wall_layers * dx;
-  auto wraps = [&](int k) { return (s.periodic >> k & 1u) != 0; };
   Vec<D> wlo = lo, whi = hi;
   for (int k = 0; k < D; ++k)
-    if (!wraps(k)) wlo[k] -= thick, whi[k] += thick;
-  if (s.open_top && !wraps(D - 1)) whi[D - 1] = hi[D - 1];
+    if (!s.wraps(k)) wlo[k] -= thick, whi[k] += thick;
+  if (s.open_top && !s.wraps(D - 1)) whi[D - 1] = hi[D - 1];
   for (const auto& p : lattice<D>(wlo, whi, dx)) {
     bool inside = true;
-    for (int k = 0; k < D; ++k) inside = inside && (wraps(k) || (p[k] > lo[k] && p[k] < hi[k]));
+    for (int k = 0; k < D; ++k) inside = inside && (s.wraps(k) || (p[k] > lo[k] && p[k] < hi[k]));
     if (!inside) {
       out.x.push_back(p);
       out.kind.push_back(Kind::wall);
@@ -65,8 +64,8 @@ SceneParticles<D> scene_particles(const Scene& s) {
   out.domain_lo = wlo;
   out.domain_hi = whi;
   for (int k = 0; k < D; ++k)
-    if (!wraps(k)) out.domain_lo[k] -= margin, out.domain_hi[k] += margin;
-  if (s.open_top && !wraps(D - 1)) out.domain_hi[D - 1] += hi[D - 1] - lo[D - 1];
+    if (!s.wraps(k)) out.domain_lo[k] -= margin, out.domain_hi[k] += margin;
+  if (s.open_top && !s.wraps(D - 1)) out.domain_hi[D - 1] += hi[D - 1] - lo[D - 1];
   return out;
 }
 

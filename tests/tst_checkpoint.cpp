@@ -56,6 +56,23 @@ void require_identical(const View& a, const View& b, const std::string& what) {
   REQUIRE(differ == 0);
 }
 
+// The water of two solvers, the rows in use (after a gate went, the views' tails hold
+// stale values): same step, time, count, and bits of x, v, id and pressure.
+template <class Solver>
+void require_identical_water(const Solver& a, const Solver& b) {
+  REQUIRE(a.info().step == b.info().step);
+  REQUIRE(a.info().t == b.info().t);
+  REQUIRE(a.size() == b.size());
+  const auto rows = Kokkos::make_pair(0, b.size());
+  const auto& pa = a.particles();
+  const auto& pb = b.particles();
+  require_identical(Kokkos::subview(pa.x, rows, Kokkos::ALL), Kokkos::subview(pb.x, rows, Kokkos::ALL), "x");
+  require_identical(Kokkos::subview(pa.v, rows, Kokkos::ALL), Kokkos::subview(pb.v, rows, Kokkos::ALL), "v");
+  require_identical(Kokkos::subview(pa.id, rows), Kokkos::subview(pb.id, rows), "id");
+  require_identical(Kokkos::subview(a.pressure(), rows, Kokkos::ALL),
+                    Kokkos::subview(b.pressure(), rows, Kokkos::ALL), "pressure");
+}
+
 }  // namespace
 
 // Once with one pressure solve, once with the dual-velocity step (two solves, the
@@ -77,18 +94,7 @@ TEST_CASE("ISPH restart from a checkpoint file is bit-identical", "[checkpoint]"
   Solver resumed(s);
   resumed.restore(Checkpoint::read(path));
   for (int k = 0; k < 30; ++k) resumed.step();
-  REQUIRE(resumed.info().step == straight.info().step);
-  REQUIRE(resumed.info().t == straight.info().t);
-  REQUIRE(resumed.size() == straight.size());
-  // the rows in use (after the gate went, the views' tails hold stale values)
-  const auto rows = Kokkos::make_pair(0, straight.size());
-  const auto& a = resumed.particles();
-  const auto& b = straight.particles();
-  require_identical(Kokkos::subview(a.x, rows, Kokkos::ALL), Kokkos::subview(b.x, rows, Kokkos::ALL), "x");
-  require_identical(Kokkos::subview(a.v, rows, Kokkos::ALL), Kokkos::subview(b.v, rows, Kokkos::ALL), "v");
-  require_identical(Kokkos::subview(a.id, rows), Kokkos::subview(b.id, rows), "id");
-  require_identical(Kokkos::subview(resumed.pressure(), rows, Kokkos::ALL),
-                    Kokkos::subview(straight.pressure(), rows, Kokkos::ALL), "pressure");
+  require_identical_water(resumed, straight);
   std::filesystem::remove(path);
 }
 
@@ -132,14 +138,7 @@ TEST_CASE("coupled restart (water and beads) from a checkpoint file is bit-ident
   resumed_beads.restore(r);
   resumed.restore(r);
   for (int k = 0; k < 3; ++k) resumed.step();
-  REQUIRE(resumed.info().t == straight.info().t);
-  const auto rows = Kokkos::make_pair(0, straight.size());
-  require_identical(Kokkos::subview(resumed.particles().x, rows, Kokkos::ALL),
-                    Kokkos::subview(straight.particles().x, rows, Kokkos::ALL), "x");
-  require_identical(Kokkos::subview(resumed.particles().v, rows, Kokkos::ALL),
-                    Kokkos::subview(straight.particles().v, rows, Kokkos::ALL), "v");
-  require_identical(Kokkos::subview(resumed.pressure(), rows, Kokkos::ALL),
-                    Kokkos::subview(straight.pressure(), rows, Kokkos::ALL), "pressure");
+  require_identical_water(resumed, straight);
   require_identical(resumed_beads.spheres().x, straight_beads.spheres().x, "bead x");
   require_identical(resumed_beads.spheres().v, straight_beads.spheres().v, "bead v");
   require_identical(resumed_beads.spheres().f_ext, straight_beads.spheres().f_ext, "bead f_ext");

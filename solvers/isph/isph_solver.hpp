@@ -99,9 +99,8 @@ class IsphSolver {
     kind_scratch_ = Kokkos::View<Kind*, memory_space>("dvisph::sph::kind_scratch", n_);
     id_scratch_ = Kokkos::View<int*, memory_space>("dvisph::sph::id_scratch", n_);
     cells_ = CellList<D, Space>(Grid<D>(domain_lo_, domain_hi_, kernel_.radius(), s.periodic));
-    // every axis periodic: no wall and no free surface, so the pressure is defined up to a
-    // constant (the PPE matrix is singular)
-    closed_ = s.periodic == (1u << D) - 1;
+    // every axis periodic: the pressure is defined up to a constant (the PPE is singular)
+    closed_ = s.closed();
     if constexpr (is_porous<Medium>) start_coupling();
     surface_test_ = lattice_reference();
     count_kinds();

@@ -49,9 +49,8 @@ TankWalls<D> tank_walls(const Scene& s) {
   TankWalls<D> w;
   // a periodic axis has no faces
   for (int k = 0; k < D; ++k) {
-    const bool wraps = s.periodic >> k & 1u;
-    w.lo[k] = wraps ? -1e300 : s.tank.lo[k];
-    w.hi[k] = wraps ? 1e300 : s.tank.hi[k];
+    w.lo[k] = s.wraps(k) ? -1e300 : s.tank.lo[k];
+    w.hi[k] = s.wraps(k) ? 1e300 : s.tank.hi[k];
   }
   w.open_top = s.open_top;
   if (s.gate) w.gate = true, w.gate_x = s.gate->x;

@@ -21,11 +21,6 @@ struct Periodic {
   }
 
   KOKKOS_INLINE_FUNCTION bool wraps(int k) const { return length[k] > 0; }
-  bool any() const {
-    for (int k = 0; k < D; ++k)
-      if (wraps(k)) return true;
-    return false;
-  }
 
   // xij = xi - xj at its nearest image (unchanged along axes that do not wrap).
   KOKKOS_INLINE_FUNCTION void nearest_image(Vec<D>& xij) const {
