@@ -1,8 +1,11 @@
 #!/usr/bin/python3
 """Plots of a run directory (written by `dvisph run`): the surge front against Martin &
 Moyce (1952) for dam breaks (and the bead front where there are beads; time from the
-gate's removal), pressure against depth for hydrostatic tanks, energy and
-bed height for bead runs, the bead front for a dry collapse.
+gate's removal) and, where the runs wrote density_error_histogram.csv
+(metrics.density_error_at), the density error's histograms side by side over 0-50 %
+and 0-5 % (as the paper shows them) into <PNG>_density_error.png; pressure against
+depth for hydrostatic tanks, energy and bed height for bead runs, the bead front for a
+dry collapse.
 Usage: plot_run.py RUN_DIR [more RUN_DIRs with the same metrics kind] [-o PNG]"""
 import argparse
 import csv
@@ -77,6 +80,44 @@ def plot_front(runs, png, labels=None):
     fig.savefig(png, dpi=120)
 
 
+def histogram(run):
+    """(upper bin edges, counts, time after the gate) of density_error_histogram.csv."""
+    with open(os.path.join(run, "density_error_histogram.csv")) as f:
+        head = f.readline()
+    d = np.loadtxt(os.path.join(run, "density_error_histogram.csv"), delimiter=",", skiprows=2)
+    t = float(head.split(" at t = ")[1].split(" s")[0])
+    return d[:, 1], d[:, 2], t
+
+
+def plot_density_error(runs, png, labels=None):
+    """One column per run: the fraction of counted particles per 1 % (top, 0-50 %) and
+    per 0.1 % (bottom, 0-5 %) of |density error|; the file's fine logarithmic bins are
+    summed into these by their upper edges."""
+    fig, axes = plt.subplots(2, len(runs), figsize=(4 * len(runs), 6), squeeze=False)
+    for n, run in enumerate(runs):
+        upper, count, t = histogram(run)
+        total = count.sum()
+        sc = scene_of(run)
+        summary = json.load(open(os.path.join(run, "summary.json")))["metrics"]["density_error_at"]
+        name = labels[n] if labels else sc.get("name", run)
+        for row, (top, width) in enumerate([(50, 1.0), (5, 0.1)]):
+            edges = np.arange(0, top + width / 2, width)
+            which = np.digitize(100 * upper, edges, right=True) - 1
+            frac = np.array([count[which == b].sum() for b in range(len(edges) - 1)]) / max(total, 1)
+            ax = axes[row, n]
+            ax.bar(edges[:-1], frac, width=width, align="edge", color="C%d" % n, edgecolor="none")
+            ax.set_xlim(0, top)
+            ax.set_xlabel("|density error| [%]")
+            ax.set_ylabel("fraction of particles")
+            ax.grid(alpha=0.3)
+            beyond = count[100 * upper > top].sum() / max(total, 1)
+            ax.set_title(f"{name}\n{t:.2f} s after the gate: p95 {100 * summary['p95']:.2f} %, "
+                         f"max {100 * summary['max']:.1f} %" if row == 0 else
+                         f"0-{top} %: {100 * (1 - beyond):.1f} % of {int(total)} particles", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(png, dpi=120)
+
+
 def plot_pressure(runs, png):
     fig, ax = plt.subplots(figsize=(5, 5))
     for run in runs:
@@ -141,7 +182,12 @@ def main():
     kind = scene_of(args.runs[0]).get("metrics", {}).get("kind", "none")
     if kind == "dam_break":
         png = args.output or os.path.join(args.runs[0], "front.png")
-        plot_front(args.runs, png, args.labels.split(";") if args.labels else None)
+        labels = args.labels.split(";") if args.labels else None
+        plot_front(args.runs, png, labels)
+        if all(os.path.exists(os.path.join(r, "density_error_histogram.csv")) for r in args.runs):
+            hist = os.path.splitext(png)[0] + "_density_error.png"
+            plot_density_error(args.runs, hist, labels)
+            print("wrote", hist)
     elif kind == "hydrostatic":
         png = args.output or os.path.join(args.runs[0], "pressure.png")
         plot_pressure(args.runs, png)

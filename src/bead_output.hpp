@@ -4,6 +4,7 @@
 // (rebound restitution), bead_collision (momentum, restitution), bead_slide (rolling
 // speed or stop distance), bead_bed (packing fraction, bed height) and bead_collapse
 // (bead front); energy throughout (without the water's work on the beads).
+#include "src/connected_front.hpp"
 #include "src/numerical_error.hpp"
 #include "src/scene_beads.hpp"
 #include "src/snapshot_part.hpp"
@@ -20,7 +21,8 @@ class BeadOutput {
  public:
   // `with_water`: the series columns get a bead_ prefix, the stage times their own key
   BeadOutput(const Scene& s, const dem::DemSolver<D, Space>& dem, bool with_water)
-      : s_(s), dem_(dem), g_(std::abs(s.gravity[D - 1])), prefix_(with_water ? "bead_" : "") {
+      : s_(s), dem_(dem), g_(std::abs(s.gravity[D - 1])), prefix_(with_water ? "bead_" : ""),
+        front_of_(s.tank.lo[0], s.tank.hi[0], s.solids->diameter, 2) {
     const bool few = s.metrics_kind == "bead_drop" || s.metrics_kind == "bead_collision" ||
                      s.metrics_kind == "bead_slide";
     if (few && dem_.spheres().n > 2)
@@ -59,18 +61,18 @@ class BeadOutput {
     const auto& sp = dem_.spheres();
     const auto x = sp.x, v = sp.v;
     const auto r = sp.radius;
-    Real speed = 0, front = -1e300, top = -1e300;
+    Real speed = 0, top = -1e300;
     Kokkos::parallel_reduce(
         "dvisph::dem_run::extent", Kokkos::RangePolicy<Space>(0, sp.n),
-        KOKKOS_LAMBDA(int i, Real& s, Real& f, Real& t) {
+        KOKKOS_LAMBDA(int i, Real& s, Real& t) {
           Real v2 = 0;
           for (int k = 0; k < D; ++k) v2 += v(i, k) * v(i, k);
           s = math::max(s, math::sqrt(v2));
-          f = math::max(f, x(i, 0) + r(i));
           t = math::max(t, x(i, D - 1) + r(i));
         },
-        Kokkos::Max<Real>(speed), Kokkos::Max<Real>(front), Kokkos::Max<Real>(top));
-    front -= s_.tank.lo[0];
+        Kokkos::Max<Real>(speed), Kokkos::Max<Real>(top));
+    // the leading edge of the body of beads (slabs of one diameter, two empty ones end it)
+    const Real front = front_of_(LeadingEdge<decltype(x), decltype(r)>{x, r}, sp.n) - s_.tank.lo[0];
     if (s_.metrics_kind == "bead_collapse") {
       collapse_T_ = (dem_.time() - s_.metrics_origin()) * std::sqrt(2 * g_ / s_.column_width);
       collapse_Z_ = front / s_.column_width;
@@ -263,6 +265,7 @@ class BeadOutput {
   const dem::DemSolver<D, Space>& dem_;
   Real g_;
   std::string prefix_;
+  ConnectedFront<Space> front_of_;
   long step_ = 0;
   bool watch_ = false;
   Real energy0_ = 0, last_energy_ = 0, energy_rise_ = 0;

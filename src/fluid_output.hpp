@@ -22,7 +22,9 @@ class FluidOutput {
         solver_(solver),
         g_(std::abs(s.gravity[D - 1])),
         dam_break_(s.metrics_kind == "dam_break"),
-        walls_(tank_walls<D>(s)) {}
+        walls_(tank_walls<D>(s)),
+        front_of_(s.tank.lo[0], s.tank.hi[0], s.spacing,
+                  static_cast<int>(std::ceil(solver.kernel().radius() / s.spacing - 1e-9))) {}
 
   // after each step of the solver
   void after_step(const StepInfo& info) {
@@ -48,7 +50,9 @@ class FluidOutput {
   std::string series_row() {
     const auto& p = solver_.particles();
     const auto& info = solver_.info();
-    const double front = front_position<Space>(p.x, p.kind, solver_.size()) - s_.tank.lo[0];
+    const double front =
+        front_of_(FluidFrontCoordinate<decltype(p.x), decltype(p.kind)>{p.x, p.kind}, solver_.size()) -
+        s_.tank.lo[0];
     DensityErrorFigures derr;  // none before this process's first step: no neighbour list yet
     if (stepped_) {
       const auto old = density_error_.weighted_rule(p.kind, solver_.density(), solver_.pressure(),
@@ -245,6 +249,7 @@ class FluidOutput {
   bool dam_break_;
   FrontData front_;
   TankWalls<D> walls_;
+  ConnectedFront<Space> front_of_;
   // largest over the series rows of the density error's max and p95 over particles:
   // the paper's rule, and the rule before it (metrics.hpp)
   DensityErrorFigures worst_, worst_weighted_rule_;

@@ -2,6 +2,7 @@
 // Figures a run reports while it goes (series.csv) and at its end (summary.json).
 #include "solvers/isph/roles.hpp"
 #include "solvers/isph/tank_walls.hpp"
+#include "src/connected_front.hpp"
 #include "src/scene.hpp"
 
 #include <cmath>
@@ -11,19 +12,6 @@
 #include <vector>
 
 namespace dvisph {
-
-// Largest first coordinate of a fluid particle: the surge front.
-template <class Space, class X, class KindV>
-Real front_position(const X& x, const KindV& kind, int n) {
-  Real front = -1e300;
-  Kokkos::parallel_reduce(
-      "dvisph::metrics::front", Kokkos::RangePolicy<Space>(0, n),
-      KOKKOS_LAMBDA(int i, Real& m) {
-        if (kind(i) == Kind::fluid && x(i, 0) > m) m = x(i, 0);
-      },
-      Kokkos::Max<Real>(front));
-  return front;
-}
 
 // How far the deepest fluid particle centre lies inside the tank's walls (0 if none).
 template <int D, class Space, class X, class KindV>

@@ -532,7 +532,8 @@ Scene parse_scene(const std::string& yaml_text, const std::vector<std::string>& 
     s.coupling = Scene::Coupling{r.number("coupling.smoothing_length"),
                                  r.number("coupling.porosity_min"),
                                  r.number("coupling.switch_porosity"), r.text("coupling.drag"),
-                                 r.text("coupling.virtual_mass") == "van_gent"};
+                                 r.text("coupling.virtual_mass") == "van_gent",
+                                 r.at("coupling.porosity_rate").as<bool>()};
   } else if (root["coupling"]) {
     throw SceneError("coupling: needs both geometry.fluid and solids");
   }

@@ -61,6 +61,7 @@ struct Scene {
     double porosity_min, switch_porosity;
     std::string drag;
     bool virtual_mass;
+    bool porosity_rate;  // d eps/dt of the moving beads in the PPE's source
   };
   std::optional<Coupling> coupling;
 

@@ -183,6 +183,11 @@ Field make_schema() {
                   choice("virtual_mass", "van_gent", {"van_gent", "none"},
                          "virtual-mass coefficient C_r = 1 + 0.34 (1 - eps) / eps (van Gent), "
                          "or C_r = 1"),
+                  boolean("porosity_rate", "true",
+                          "the PPE's source takes the rate d eps/dt at which moving beads "
+                          "change the porosity (the water's continuity d eps/dt + div v = 0); "
+                          "false: eq. 5 as printed, div v* alone, so water makes way for "
+                          "moving beads only through the density-invariance term"),
               },
               "water and beads in one scene (method.md §2): how they exchange momentum"),
           map("boundary", false,

@@ -171,12 +171,14 @@ metrics: {kind: dam_break, column_width: 0.05}
   const double a = s.column_width, scale = std::sqrt(2 * 9.81 / a), shift = 0.175;
   FrontData sim;
   double penetration = 0;
+  const ConnectedFront<TestSpace> front(s.tank.lo[0], s.tank.hi[0], s.spacing, 3);  // as the run's
   while (solver.info().t < s.end_time) {
     solver.step();
     penetration = std::max(penetration, deepest_in_walls(solver, walls));
     sim.T.push_back(solver.info().t * scale);
-    sim.Z.push_back(front_position<TestSpace>(solver.particles().x, solver.particles().kind,
-                                              solver.size()) / a);
+    const auto& p = solver.particles();
+    sim.Z.push_back(front(FluidFrontCoordinate<decltype(p.x), decltype(p.kind)>{p.x, p.kind},
+                          solver.size()) / a);
   }
   const auto dev = front_deviations(sim, martin_moyce(), 0.5, 3.5, shift);
   REQUIRE(dev.size() == 5);

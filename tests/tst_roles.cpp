@@ -171,3 +171,29 @@ TEST_CASE("the density error counts under- and over-density alike, 2D", "[roles]
 TEST_CASE("the density error counts under- and over-density alike, 3D", "[roles]") {
   density_error_counts_both_signs<3>();
 }
+
+// The front is the furthest particle of the body that reaches back to the upstream end:
+// a particle two empty slabs ahead still belongs to it (the gap is three), a droplet six
+// empty slabs ahead does not, and wall particles are not fluid.
+TEST_CASE("the front ends where the body does, not at a droplet ahead of it", "[roles]") {
+  const Real dx = 0.003;
+  std::vector<std::pair<Real, Kind>> at;
+  for (int k = 0; k <= 10; ++k) at.push_back({k * dx + 0.0001, Kind::fluid});
+  at.push_back({13 * dx + 0.0002, Kind::fluid});  // slabs 11 and 12 empty
+  at.push_back({20 * dx + 0.0001, Kind::fluid});  // slabs 14 to 19 empty: a droplet
+  at.push_back({30 * dx, Kind::wall});
+  const int n = static_cast<int>(at.size());
+  Kokkos::View<Real* [2], Mem> x("x", n);
+  Kokkos::View<Kind*, Mem> kind("kind", n);
+  auto hx = Kokkos::create_mirror_view(x);
+  auto hk = Kokkos::create_mirror_view(kind);
+  for (int i = 0; i < n; ++i) hx(i, 0) = at[i].first, hx(i, 1) = 0, hk(i) = at[i].second;
+  Kokkos::deep_copy(x, hx);
+  Kokkos::deep_copy(kind, hk);
+  const ConnectedFront<TestSpace> front(0, 0.1, dx, 3);
+  const FluidFrontCoordinate<decltype(x), decltype(kind)> fluid{x, kind};
+  CHECK(front(fluid, n) == 13 * dx + 0.0002);
+  CHECK(front(fluid, n - 2) == 13 * dx + 0.0002);  // without the droplet
+  CHECK(ConnectedFront<TestSpace>(0, 0.1, dx, 7)(fluid, n) == 20 * dx + 0.0001);  // a gap of 7 spans it
+  CHECK(front(fluid, 0) == -1e300);
+}

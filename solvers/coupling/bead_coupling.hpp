@@ -6,8 +6,10 @@
 //    porosity eps_i = max(eps_min, 1 - S_i), solid velocity v_s,i (the V_s W_is-weighted
 //    mean), C_r(eps_i), the volume ratio m_i / (eps_i rho_f V_ref) and the drag rate
 //    beta_i = K(eps_i, |u_i - v_s,i|) / (eps_i rho_f) of the drag law, at the step's
-//    start velocity, and the mobility it gives the step dt; they fill the porous medium
-//    (solvers/isph/medium.hpp);
+//    start velocity, the mobility it gives the step dt, and the rate at which the beads
+//    change the porosity where the particle stands, d eps/dt = sum_s V_s grad W_is . v_s
+//    (the solids' continuity, d(1 - eps)/dt + div((1 - eps) v_s) = 0, with this step's
+//    bead velocities); they fill the porous medium (solvers/isph/medium.hpp);
 //  - at beads, over the fluid particles (forces): what each fluid particle i gives the
 //    beads, E_i = (1 - eps_i) V_i grad P_i (the beads' buoyancy: the water keeps only
 //    eps_i of its pressure force) + m_i drag_i (the reaction of the drag at the
@@ -31,6 +33,7 @@ struct CouplingOptions {
   Real depth;             // 2D: the slab depth of a bead [m]; 3D: 1
   Real rho_f, volume;     // fluid density, V_ref = dx^D
   Vec<D> g;               // gravity: the wall's pressure gradient rho_f g (hydrostatic)
+  bool porosity_rate;     // coupling.porosity_rate: d eps/dt in the PPE's source
 };
 
 template <int D, class Kernel, class Space>
@@ -62,17 +65,24 @@ class BeadCoupling {
     const Real third = 4.0 / 3.0 * math::pi / o.depth;
     Kokkos::parallel_for(
         "dvisph::coupling::fields", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
-          Real solid = 0;
+          Real solid = 0, rate = 0;
           Vec<D> vs = Vec<D>::zero();
           // walls get the porosity of the bed beside them too: the wall condition of
           // the PPE continues the water's pressure with the water's mobility
           const bool fluid = kind(i) == Kind::fluid;
-          sweep.for_each(i, row<D>(x, i), [&](int s, const Vec<D>&, Real r) {
-              const Real w = third * radius(s) * radius(s) * radius(s) * kernel.W(r);
+          sweep.for_each(i, row<D>(x, i), [&](int s, const Vec<D>& xis, Real r) {
+              const Real vol = third * radius(s) * radius(s) * radius(s);
+              const Real w = vol * kernel.W(r);
+              const Vec<D> grad = kernel.grad(xis, r);
               solid += w;
-              for (int k = 0; k < D; ++k) vs[k] += w * bx(s, k);
+              for (int k = 0; k < D; ++k) {
+                vs[k] += w * bx(s, k);
+                rate += vol * grad[k] * bx(s, k);
+              }
             });
-          const Real eps = math::max(o.porosity_min, 1 - solid);
+          const bool clamped = 1 - solid < o.porosity_min;
+          const Real eps = clamped ? o.porosity_min : 1 - solid;
+          medium.eps_rate(i) = fluid && o.porosity_rate && !clamped ? rate : 0;
           Real slip2 = 0;
           for (int k = 0; k < D; ++k) {
             vs[k] = solid > 0 ? vs[k] / solid : 0;

@@ -311,7 +311,7 @@ class IsphSolver {
     const auto& c = *scene_.coupling;
     medium_ = Medium(n_);
     CouplingOptions<D> o{c.smoothing_length > 0 ? c.smoothing_length : kernel_.h, c.porosity_min,
-                      D == 3 ? 1.0 : scene_.solids->diameter, rho0_, volume_, g_};
+                      D == 3 ? 1.0 : scene_.solids->diameter, rho0_, volume_, g_, c.porosity_rate};
     coupling_.emplace(o, DragLaw(c.drag, rho0_, scene_.viscosity, scene_.solids->diameter,
                                  c.switch_porosity),
                       VanGentVirtualMass{c.virtual_mass}, beads_->box_lo(), beads_->box_hi(),

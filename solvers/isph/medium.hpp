@@ -10,6 +10,9 @@
 //                           is the beads' buoyancy: coupling/bead_coupling.hpp), and the
 //                           drag is implicit in the pressure's correction as in the
 //                           predictor's, so v = v* - dt mobility / rho_f grad P
+//   porosity_rate(i)        d eps/dt at the particle's place from the beads' motion: the
+//                           water's continuity is d eps/dt + div v = 0, so the PPE's source
+//                           is div v* + d eps/dt (0 with coupling.porosity_rate: false)
 //   pair_coefficient(i, j)  the PPE's symmetric pair coefficient, the harmonic mean of the
 //                           two mobilities (one that depends on i and j alike keeps the
 //                           PPE matrix symmetric)
@@ -34,6 +37,7 @@ struct ClearWater {
   KOKKOS_INLINE_FUNCTION Real pair_coefficient(int, int) const { return 1; }
   KOKKOS_INLINE_FUNCTION Real inverse_virtual_mass(int) const { return 1; }
   KOKKOS_INLINE_FUNCTION Real mobility(int) const { return 1; }
+  KOKKOS_INLINE_FUNCTION Real porosity_rate(int) const { return 0; }
   template <int D>
   KOKKOS_INLINE_FUNCTION Vec<D> predict(int, const Vec<D>& v, const Vec<D>& a, Real dt) const {
     Vec<D> out;
@@ -51,6 +55,7 @@ struct PorousMedium {
   static constexpr bool porous = true;
   using memory_space = typename Space::memory_space;
   Kokkos::View<Real*, memory_space> eps, ratio, inv_cr, mob;
+  Kokkos::View<Real*, memory_space> eps_rate;  // d eps/dt [1/s]
   Kokkos::View<Real*, memory_space> beta;  // drag per unit mass over the slip [1/s]
   Kokkos::View<Real* [D], memory_space> vs;          // solid velocity at the particle
   Kokkos::View<Real* [D], memory_space> drag;        // drag per unit mass applied [m/s^2]
@@ -62,6 +67,7 @@ struct PorousMedium {
         ratio("dvisph::medium::volume_ratio", n),
         inv_cr("dvisph::medium::inverse_virtual_mass", n),
         mob("dvisph::medium::mobility", n),
+        eps_rate("dvisph::medium::porosity_rate", n),
         beta("dvisph::medium::drag_rate", n),
         vs("dvisph::medium::solid_velocity", n),
         drag("dvisph::medium::drag", n),
@@ -71,6 +77,7 @@ struct PorousMedium {
   KOKKOS_INLINE_FUNCTION Real volume_ratio(int j) const { return ratio(j); }
   KOKKOS_INLINE_FUNCTION Real inverse_virtual_mass(int i) const { return inv_cr(i); }
   KOKKOS_INLINE_FUNCTION Real mobility(int i) const { return mob(i); }
+  KOKKOS_INLINE_FUNCTION Real porosity_rate(int i) const { return eps_rate(i); }
   KOKKOS_INLINE_FUNCTION Real pair_coefficient(int i, int j) const {
     const Real a = mobility(i), b = mobility(j);
     return 2 * a * b / (a + b);
@@ -92,7 +99,7 @@ struct PorousMedium {
       drag(i, k) = -b * (v[k] / e - vs(i, k));
     }
   }
-  std::size_t bytes() const { return view_bytes(eps, ratio, inv_cr, mob, beta, vs, drag, grad_p); }
+  std::size_t bytes() const { return view_bytes(eps, ratio, inv_cr, mob, eps_rate, beta, vs, drag, grad_p); }
 };
 
 template <class Medium>

@@ -2,15 +2,17 @@
 // The pressure Poisson equation (method.md eq. 5) as a symmetric positive definite
 // system A P = b over the unknown particles. Eq. 5 divided by C_r rho_bar / eps
 // (rho_bar = eps rho_f) reads (1/C_r) lap P = rho_f div v* / dt + gamma eps rho_f
-// (1 - <rho>/rho_bar_ref) / dt^2; the Morris Laplacian (kernels/laplacian.hpp) with
-// per-particle volumes V_j and the pair coefficient k_ij of the medium (medium.hpp),
-// row i scaled by V_i / V_ref, gives A_ij = -s_i s_j k_ij L_ij (s = V / V_ref, L_ij
-// the Laplacian weight at V_ref): symmetric. Clear water: s = k = 1, A = -L. The
-// stencil holds fluid and active wall particles; Dirichlet particles (P = 0) add only
-// to the diagonal.
-//   fluid rows: b = -s_i rho_f (<div v*>/dt + w gamma eps_i (1 - <rho>/(eps_i rho_ref))
-//               / dt^2), w the particle's invariance weight (1 where its support is
-//               full, 0 where it reaches into the air, and on the surface; roles.hpp).
+// (1 - <rho>/rho_bar_ref) / dt^2; in a bed whose beads move, the water's continuity
+// d eps/dt + div v = 0 adds d eps/dt to div v* (coupling.porosity_rate, docs/coupling.md).
+// The Morris Laplacian (kernels/laplacian.hpp) with per-particle volumes V_j and the
+// pair coefficient k_ij of the medium (medium.hpp), row i scaled by V_i / V_ref, gives
+// A_ij = -s_i s_j k_ij L_ij (s = V / V_ref, L_ij the Laplacian weight at V_ref):
+// symmetric. Clear water: s = k = 1, A = -L. The stencil holds fluid and active wall
+// particles; Dirichlet particles (P = 0) add only to the diagonal.
+//   fluid rows: b = -s_i rho_f ((<div v*> + d eps/dt)/dt + w gamma eps_i
+//               (1 - <rho>/(eps_i rho_ref)) / dt^2), w the particle's invariance
+//               weight (1 where its support is full, 0 where it reaches into the air,
+//               and on the surface; roles.hpp).
 //               Free surface, ghost-fluid style (Gibou et al. 2002): the part of a
 //               fluid particle's support that is empty is air at P = 0 half a spacing
 //               beyond the particles, i.e. twice the missing diagonal weight, so the
@@ -103,6 +105,7 @@ struct PressurePoisson {
           // moves into the wall: dP/dn = rho0 vn / dt brings it to rest
           if (shepard > 0) wall_source += math::min(0, approach / shepard) / dt * lever;
           const Real si = self.medium.volume_ratio(i), eps = self.medium.porosity(i);
+          if constexpr (is_porous<Medium>) div += self.medium.porosity_rate(i);
           const Real air_share = wall || !self.air ? 0 : self.air_everywhere ? 1 : 1 - invariance(i);
           // a full support's diagonal at this particle's mobility: a bed's lower mobility
           // is not a missing support
