@@ -3,7 +3,8 @@
 Moyce (1952) for dam breaks (and the bead front where there are beads; time from the
 gate's removal) and, where the runs wrote density_error_histogram.csv
 (metrics.density_error_at), the density error's histograms side by side over 0-50 %
-and 0-5 % (as the paper shows them) into <PNG>_density_error.png; pressure against
+and 0-5 % (as the paper shows them) into <PNG>_density_error.png, and the fronts at
+T = 0.5, 1, ..., 4 into <PNG>.csv; pressure against
 depth for hydrostatic tanks, energy and bed height for bead runs, the bead front for a
 dry collapse.
 Usage: plot_run.py RUN_DIR [more RUN_DIRs with the same metrics kind] [-o PNG]"""
@@ -48,14 +49,46 @@ def last_snapshot(run):
         return f["x"][:], f["pressure"][:], f["kind"][:] == 0, f.attrs["time"][0]
 
 
+def fronts_from_gate(run):
+    """T from the gate's removal and Z of the water front (and of the bead front, or
+    None) of a dam-break run."""
+    s, sc = series(run), scene_of(run)
+    a = sc["metrics"]["column_width"]
+    g = abs(sc.get("material", {}).get("gravity", [0, -9.81])[-1])
+    t0 = sc["geometry"].get("gate", {}).get("remove_at", 0)
+    after = s["t"] >= t0
+    T = (s["t"][after] - t0) * np.sqrt(2 * g / a)
+    beads = s["bead_front"][after] / a if "bead_front" in s else None
+    return T, s["front"][after] / a, beads
+
+
+def write_front_table(runs, path, labels=None):
+    """Z of each run's water and bead fronts at T = 0.5, 1, ..., 4 (interpolated in T;
+    empty past a run's end) into a CSV, so that fronts can be compared in numbers."""
+    Ts = np.arange(0.5, 4.01, 0.5)
+    cols, names = [], []
+    for n, run in enumerate(runs):
+        T, Z, B = fronts_from_gate(run)
+        name = labels[n] if labels else scene_of(run).get("name", run)
+        for what, z in (("water", Z), ("beads", B)):
+            if z is None:
+                continue
+            cols.append([f"{np.interp(t, T, z):.4f}" if t <= T[-1] else "" for t in Ts])
+            names.append(f"{name}: {what}")
+    with open(path, "w") as f:
+        f.write("# Z = z/a of the fronts at T = t sqrt(2g/a) from the gate (src/connected_front.hpp)\n")
+        f.write(",".join(["T"] + [f'"{c}"' for c in names]) + "\n")
+        for i, t in enumerate(Ts):
+            f.write(",".join([f"{t:g}"] + [c[i] for c in cols]) + "\n")
+
+
 def plot_front(runs, png, labels=None):
     fig, ax = plt.subplots(figsize=(6, 4.5))
     T, Z = martin_moyce()
     ax.plot(T, Z, "ko", label="Martin & Moyce (1952)")
     for n, run in enumerate(runs):
-        s, sc = series(run), scene_of(run)
+        sc = scene_of(run)
         a = sc["metrics"]["column_width"]
-        g = abs(sc.get("material", {}).get("gravity", [0, -9.81])[-1])
         path = os.path.join(run, "summary.json")  # none where the run failed: plotted to there
         summary = json.load(open(path)) if os.path.exists(path) else {"metrics": {}}
         rms = summary["metrics"].get("front_rms_deviation_T1_3", float("nan"))
@@ -63,13 +96,10 @@ def plot_front(runs, png, labels=None):
         method = f", alpha {num['alpha']:g} beta {num['beta']:g}" if "alpha" in num and "beta" in num else ""
         name = labels[n] if labels else f"{sc.get('name', run)}: a/dx = {a / sc['geometry']['spacing']:.0f}{method}"
         label = f"{name}, RMS dev. (T 1-3) {100 * rms:.1f} %"
-        # time from the gate's removal, as the run's figures count it
-        t0 = sc["geometry"].get("gate", {}).get("remove_at", 0)
-        after = s["t"] >= t0
-        T = (s["t"][after] - t0) * np.sqrt(2 * g / a)
-        line, = ax.plot(T, s["front"][after] / a, "-", label=label)
-        if "bead_front" in s:
-            ax.plot(T, s["bead_front"][after] / a, "--", color=line.get_color(), label=f"{name}: bead front")
+        T, Z, B = fronts_from_gate(run)
+        line, = ax.plot(T, Z, "-", label=label)
+        if B is not None:
+            ax.plot(T, B, "--", color=line.get_color(), label=f"{name}: bead front")
     ax.set_xlabel("T = t sqrt(2g/a)")
     ax.set_ylabel("Z = z/a")
     ax.set_xlim(0, 4)
@@ -81,29 +111,40 @@ def plot_front(runs, png, labels=None):
 
 
 def histogram(run):
-    """(upper bin edges, counts, time after the gate) of density_error_histogram.csv."""
+    """(lower and upper bin edges, counts, time after the gate) of
+    density_error_histogram.csv."""
     with open(os.path.join(run, "density_error_histogram.csv")) as f:
         head = f.readline()
     d = np.loadtxt(os.path.join(run, "density_error_histogram.csv"), delimiter=",", skiprows=2)
     t = float(head.split(" at t = ")[1].split(" s")[0])
-    return d[:, 1], d[:, 2], t
+    return d[:, 0], d[:, 1], d[:, 2], t
+
+
+def rebin(lower, upper, count, edges):
+    """Counts of fine bins spread over coarser ones by overlap (uniform within a fine bin)."""
+    out = np.zeros(len(edges) - 1)
+    for lo, up, c in zip(lower, upper, count):
+        if c == 0:
+            continue
+        overlap = np.clip(np.minimum(edges[1:], up) - np.maximum(edges[:-1], lo), 0, None)
+        out += c * overlap / (up - lo)
+    return out
 
 
 def plot_density_error(runs, png, labels=None):
     """One column per run: the fraction of counted particles per 1 % (top, 0-50 %) and
     per 0.1 % (bottom, 0-5 %) of |density error|; the file's fine logarithmic bins are
-    summed into these by their upper edges."""
+    spread over these by overlap."""
     fig, axes = plt.subplots(2, len(runs), figsize=(4 * len(runs), 6), squeeze=False)
     for n, run in enumerate(runs):
-        upper, count, t = histogram(run)
+        lower, upper, count, t = histogram(run)
         total = count.sum()
         sc = scene_of(run)
         summary = json.load(open(os.path.join(run, "summary.json")))["metrics"]["density_error_at"]
         name = labels[n] if labels else sc.get("name", run)
         for row, (top, width) in enumerate([(50, 1.0), (5, 0.1)]):
             edges = np.arange(0, top + width / 2, width)
-            which = np.digitize(100 * upper, edges, right=True) - 1
-            frac = np.array([count[which == b].sum() for b in range(len(edges) - 1)]) / max(total, 1)
+            frac = rebin(100 * lower, 100 * upper, count, edges) / max(total, 1)
             ax = axes[row, n]
             ax.bar(edges[:-1], frac, width=width, align="edge", color="C%d" % n, edgecolor="none")
             ax.set_xlim(0, top)
@@ -184,6 +225,9 @@ def main():
         png = args.output or os.path.join(args.runs[0], "front.png")
         labels = args.labels.split(";") if args.labels else None
         plot_front(args.runs, png, labels)
+        table = os.path.splitext(png)[0] + ".csv"
+        write_front_table(args.runs, table, labels)
+        print("wrote", table)
         if all(os.path.exists(os.path.join(r, "density_error_histogram.csv")) for r in args.runs):
             hist = os.path.splitext(png)[0] + "_density_error.png"
             plot_density_error(args.runs, hist, labels)

@@ -13,6 +13,7 @@
 #include <vector>
 
 using namespace dvisph;
+using Mem = TestSpace::memory_space;
 
 namespace {
 
@@ -160,4 +161,65 @@ coupling: {smoothing_length: 0.00378336906}
   const double q = (-b + std::sqrt(b * b + 4 * a * rho * drive)) / (2 * a);
   CHECK(q == Approx(0.05).epsilon(1e-4));
   CHECK(flux / volume == Approx(q).epsilon(0.02));
+}
+
+// d eps/dt at a fluid particle (the PPE's porosity source, coupling.porosity_rate) is the
+// rate at which the beads' motion changes its porosity: the fields' sum over
+// V_s grad W . v_s against the central difference of eps with the beads moved by
+// -+ v_s delta, at fixed fluid particles around three beads moving apart.
+TEST_CASE("coupling: the porosity rate is the time derivative of the beads' porosity", "[coupling]") {
+  using Space = TestSpace;
+  const Real dx = 0.001, h_c = 0.0025;
+  const std::vector<Vec<3>> centres = {{0.025, 0.025, 0.025}, {0.0255, 0.022, 0.0285}, {0.02, 0.028, 0.02}};
+  const Real vel[3][3] = {{0.1, 0, -0.2}, {0, 0.05, 0}, {-0.1, 0.1, 0.3}};
+  const int side = 16, n = side * side * side;
+  Kokkos::View<Real* [3], Mem> x("x", n), v("v", n);
+  Kokkos::View<Real*, Mem> m("m", n);
+  Kokkos::View<Kind*, Mem> kind("kind", n);
+  {
+    auto hx = Kokkos::create_mirror_view(x);
+    for (int i = 0; i < n; ++i) {
+      const int c[3] = {i % side, (i / side) % side, i / (side * side)};
+      for (int k = 0; k < 3; ++k) hx(i, k) = 0.015 + (c[k] + 0.5) * dx;
+    }
+    Kokkos::deep_copy(x, hx);
+    Kokkos::deep_copy(m, rho * dx * dx * dx);
+    Kokkos::deep_copy(kind, Kind::fluid);
+  }
+  const auto porosity = [&](Real delta, bool rate) {
+    std::vector<Vec<3>> at = centres;
+    for (std::size_t s = 0; s < at.size(); ++s)
+      for (int k = 0; k < 3; ++k) at[s][k] += delta * vel[s][k];
+    dem::Spheres<3, Space> beads(at, d / 2, 2500);
+    auto hv = Kokkos::create_mirror_view(beads.v);
+    for (int s = 0; s < beads.n; ++s)
+      for (int k = 0; k < 3; ++k) hv(s, k) = vel[s][k];
+    Kokkos::deep_copy(beads.v, hv);
+    const CouplingOptions<3> o{h_c, 0.01, 1, rho, dx * dx * dx, Vec<3>{{0, 0, -9.81}}, rate};
+    BeadCoupling<3, WendlandC2<3>, Space> coupling(o, DragLaw("ergun_wen_yu", rho, nu, d, 0.8),
+                                                   VanGentVirtualMass{true}, Vec<3>{{0, 0, 0}},
+                                                   Vec<3>{{0.05, 0.05, 0.05}}, 0);
+    coupling.resize(n);
+    const PorousMedium<3, Space> medium(n);
+    coupling.fields(beads, x, v, m, kind, medium, 1e-4, n);
+    return std::make_pair(testing::snapshot_of(medium.eps), testing::snapshot_of(medium.eps_rate));
+  };
+  const Real delta = 1e-6;  // s: the beads move 0.3 um at most
+  const auto [eps, rate] = porosity(0, true);
+  const auto ahead = porosity(delta, true).first, behind = porosity(-delta, true).first;
+  Real largest = 0, worst = 0, lowest = 1;
+  for (int i = 0; i < n; ++i) {
+    const Real difference = (ahead(i) - behind(i)) / (2 * delta);
+    largest = std::max(largest, std::abs(difference));
+    worst = std::max(worst, std::abs(rate(i) - difference));
+    lowest = std::min(lowest, eps(i));
+  }
+  INFO("largest |d eps/dt| " << largest << " 1/s, worst difference " << worst);
+  REQUIRE(lowest < 0.9);     // the beads are among the particles
+  REQUIRE(largest > 10);     // and move through them (beads at 0.05-0.33 m/s, h_c = 2.5 mm)
+  CHECK(worst < 1e-7 * largest);  // measured 2.5e-8: the difference's own error
+  const auto off = porosity(0, false).second;
+  Real any = 0;
+  for (int i = 0; i < n; ++i) any = std::max(any, std::abs(off(i)));
+  CHECK(any == 0);  // coupling.porosity_rate: false
 }

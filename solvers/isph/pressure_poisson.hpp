@@ -28,8 +28,8 @@
 //               hydrostatic gradient, b = -L(P_h), P_h = rho0 g.x, plus, where the
 //               water moves into the wall, the step dP/dn = rho0 vn / dt that brings
 //               its normal velocity vn to rest (vn: the Shepard average over the wall
-//               particle's water neighbours of v*.n beyond gravity's share; n from the
-//               tank's faces, tank_walls.hpp). Without that step the hydrostatic
+//               particle's water neighbours of v*.n beyond gravity's share, each over
+//               its mobility, 1 in clear water; n from the tank's faces, tank_walls.hpp). Without that step the hydrostatic
 //               continuation lets a front driven into a wall go through it
 //               (docs/stability.md, dam_break_2d_impact). Water moving away from a wall
 //               is not pulled back: the term only pushes. Only b carries it: the
@@ -94,15 +94,17 @@ struct PressurePoisson {
             div += self.volume * self.medium.volume_ratio(j) * dot(vj - vi, self.kernel.grad(xij, r));
             wall_source += w * dot(g, xij);
             if (wall && water(rj)) {
-              const Real W = self.kernel.W(r);
-              // gravity's share of v*_j (the predictor's, drag included)
-              approach += W * (dot(vj, n) - dt * (self.medium.mobility(j) * dot(g, n)));
+              const Real W = self.kernel.W(r), mob = self.medium.mobility(j);
+              // v*_j.n beyond gravity's share (the predictor's, drag included), over the
+              // mobility: the pressure step that stops it is (rho0 / dt) vn / mob, since
+              // water in a bed takes only mob of a pressure gradient
+              approach += W * ((dot(vj, n) - dt * (mob * dot(g, n))) / mob);
               shepard += W;
               lever += w * dot(n, xij);
             }
           });
           // the water's mean normal velocity at the wall (beyond gravity's), where it
-          // moves into the wall: dP/dn = rho0 vn / dt brings it to rest
+          // moves into the wall: dP/dn = rho0 vn / (dt mob) brings it to rest
           if (shepard > 0) wall_source += math::min(0, approach / shepard) / dt * lever;
           const Real si = self.medium.volume_ratio(i), eps = self.medium.porosity(i);
           if constexpr (is_porous<Medium>) div += self.medium.porosity_rate(i);
