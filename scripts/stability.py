@@ -208,6 +208,24 @@ FINDINGS = {
         "O(dt^2) energy error of velocity Verlet during contacts, not growth.",
     "dry_collapse":
         "As for the bed (the first 0.05 s of a collapse is mostly the same fall).",
+    "glass_beads_2d":
+        "2026-12-02 (issue 15), with d eps/dt in the PPE source and the wall stop step at the "
+        "water's mobility (docs/coupling.md). Judged on the p95 over the run: in every cell "
+        "with beads a single particle sets the run's max for a row or two (front-tip particles "
+        "on the floor, 25-40 % of their reference density at P 265-444 Pa, whose support is "
+        "emptied evenly so that the truncation test does not read them as surface). The "
+        "proposed step (alpha = 0, beta = 0.5) is stable in every cell where the conventional "
+        "one (alpha = beta = 0.001) is: conventional 4 of 6 (unstable at CFL 0.1 with both "
+        "bead densities: p95 12.3 % and a DEM failure), proposed 5 of 6 (unstable at CFL 0.1 "
+        "with beads of 1050 kg/m^3: a DEM failure). Over all cells: beta = 0.5 11 of 12 "
+        "stable, beta = 0.001 5 of 12; p95 at 0.2 s after the gate 2.1-4.4 % with beta = 0.5 "
+        "and 7.4-12.3 % with beta = 0.001. Weak: light beads (1050 kg/m^3) at CFL 0.1 end "
+        "three runs by the DEM guard (a bead at 6-13 m/s, moving more than half the contact "
+        "skin in a DEM step) for both methods: pressure spikes of the water, which accelerate a "
+        "bead by grad P / rho_s, throw them (a light bead 2.4 times as far as a glass one); "
+        "the smallest CFL fails most, as for water alone (the dam_break_2d findings). The "
+        "first run of this case (2026-12-02, before the wall stop step took the mobility) had "
+        "13 of 24 stable, runs' max 53-83 % set by water inside the walls (up to 4 dx).",
 }
 
 

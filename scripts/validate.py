@@ -143,6 +143,9 @@ def hydrostatic_layers(run, layers=6):
     return rows
 
 
+KEPT = "<!-- Below: sections written by hand, with the commands that made their figures; scripts/validate.py keeps them. -->"
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--only", nargs="*",
@@ -188,7 +191,11 @@ def main():
         plot_run.plot_front([r for r, _ in study_runs],
                             os.path.join(ROOT, "docs", "dam_break_2d_front_convergence.png"),
                             [label for _, label in study_runs])
-    with open(os.path.join(ROOT, "docs", "validation.md"), "w") as f:
+    doc = os.path.join(ROOT, "docs", "validation.md")
+    # what follows KEPT in the file is written by hand (runs this script does not make)
+    kept = open(doc).read().split(KEPT, 1) if os.path.exists(doc) else []
+    kept = KEPT + kept[1] if len(kept) == 2 else ""
+    with open(doc, "w") as f:
         f.write("# Validation of the single-phase ISPH\n\n")
         f.write(f"Made by `scripts/validate.py` on {datetime.date.today()} "
                 f"({platform.node()}, {platform.machine()}, {os.cpu_count()} cores); "
@@ -218,6 +225,7 @@ def main():
             kind = "front" if name.startswith("dam") else "pressure"
             if os.path.exists(os.path.join(ROOT, "docs", f"{name}_{kind}.png")):
                 f.write(f"![{name}]({name}_{kind}.png)\n\n")
+        f.write(kept)
     print("wrote docs/validation.md")
 
 
