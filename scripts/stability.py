@@ -221,9 +221,13 @@ FINDINGS = {
         "stable, beta = 0.001 5 of 12; p95 at 0.2 s after the gate 2.1-4.4 % with beta = 0.5 "
         "and 7.4-12.3 % with beta = 0.001. Weak: light beads (1050 kg/m^3) at CFL 0.1 end "
         "three runs by the DEM guard (a bead at 6-13 m/s, moving more than half the contact "
-        "skin in a DEM step) for both methods: pressure spikes of the water, which accelerate a "
-        "bead by grad P / rho_s, throw them (a light bead 2.4 times as far as a glass one); "
-        "the smallest CFL fails most, as for water alone (the dam_break_2d findings). The "
+        "skin in a DEM step) for both methods. In the proposed cell that fails (restarted from "
+        "its last good state one step before), the front's water on the floor, a layer one "
+        "or two particles thick among the beads, held P = -6e4 to -7.5e4 Pa with 21 pairs of "
+        "fluid particles closer than 0.2 dx, and the beads there got |F/m| up to 1500 g: "
+        "suction in a clumped thin layer, which a light bead feels 2.4 times as strongly as a "
+        "glass one. The smallest CFL fails most, as for water alone (the dam_break_2d "
+        "findings). The "
         "first run of this case (2026-12-02, before the wall stop step took the mobility) had "
         "13 of 24 stable, runs' max 53-83 % set by water inside the walls (up to 4 dx).",
 }
