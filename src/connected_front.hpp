@@ -8,8 +8,8 @@
 namespace dvisph {
 
 // The surge front, robust to isolated particles: the furthest first coordinate (c(i),
-// a fluid particle's x or a bead's leading edge x + r) of the body that reaches back to
-// the tank's upstream end. The particles are counted in slabs of width `bin` along x;
+// a fluid particle's x or a bead's leading edge x + r) of the body that begins at the
+// most upstream particle. The particles are counted in slabs of width `bin` along x;
 // the body ends where `gap` slabs in a row hold none (bin = dx and gap = the kernel
 // radius over dx, rounded up: what lies beyond has no neighbour in the body). Spray,
 // a bead or a droplet thrown ahead, then does not count as the front.

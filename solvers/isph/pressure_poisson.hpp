@@ -29,8 +29,9 @@
 //               water moves into the wall, the step dP/dn = rho0 vn / dt that brings
 //               its normal velocity vn to rest (vn: the Shepard average over the wall
 //               particle's water neighbours of v*.n beyond gravity's share, each over
-//               its mobility, 1 in clear water; n from the tank's faces, tank_walls.hpp). Without that step the hydrostatic
-//               continuation lets a front driven into a wall go through it
+//               its mobility, 1 in clear water; n from the tank's faces,
+//               tank_walls.hpp). Without that step the hydrostatic continuation
+//               lets a front driven into a wall go through it
 //               (docs/stability.md, dam_break_2d_impact). Water moving away from a wall
 //               is not pulled back: the term only pushes. Only b carries it: the
 //               matrix stays symmetric.
