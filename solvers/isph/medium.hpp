@@ -12,7 +12,8 @@
 //                           predictor's, so v = v* - dt mobility / rho_f grad P
 //   porosity_rate(i)        d eps/dt at the particle's place from the beads' motion: the
 //                           water's continuity is d eps/dt + div v = 0, so the PPE's source
-//                           is div v* + d eps/dt (0 with coupling.porosity_rate: false)
+//                           is div v* + d eps/dt (0 with coupling.porosity_rate: false;
+//                           a bed's only: the PPE adds nothing for clear water)
 //   pair_coefficient(i, j)  the PPE's symmetric pair coefficient, the harmonic mean of the
 //                           two mobilities (one that depends on i and j alike keeps the
 //                           PPE matrix symmetric)
@@ -37,7 +38,6 @@ struct ClearWater {
   KOKKOS_INLINE_FUNCTION Real pair_coefficient(int, int) const { return 1; }
   KOKKOS_INLINE_FUNCTION Real inverse_virtual_mass(int) const { return 1; }
   KOKKOS_INLINE_FUNCTION Real mobility(int) const { return 1; }
-  KOKKOS_INLINE_FUNCTION Real porosity_rate(int) const { return 0; }
   template <int D>
   KOKKOS_INLINE_FUNCTION Vec<D> predict(int, const Vec<D>& v, const Vec<D>& a, Real dt) const {
     Vec<D> out;
