@@ -59,6 +59,8 @@ class ContactHistory {
       ++count;
     }
     KOKKOS_INLINE_FUNCTION void close(int i, int count) const { table.count(i) = count; }
+    // The count closed so far, for a row filled by two kernels.
+    KOKKOS_INLINE_FUNCTION int count(int i) const { return table.count(i); }
   };
 
   ContactHistory() = default;

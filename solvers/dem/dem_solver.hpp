@@ -9,12 +9,15 @@
 // settle. Contact forces are gathered per bead, so each bead writes only its own force,
 // torque and history row (the same bits on every backend and thread count).
 #include "solvers/dem/contact_history.hpp"
+#include "solvers/dem/contact_kinematics.hpp"
 #include "solvers/dem/linear_spring_dashpot.hpp"
+#include "solvers/dem/pair_contacts.hpp"
 #include "solvers/dem/plane_wall.hpp"
 #include "solvers/dem/spheres.hpp"
 #include "src/core/extrema.hpp"
 #include "src/core/neighbor_list.hpp"
 #include "src/core/neighbor_sweep.hpp"
+#include "src/core/half_pairs.hpp"
 #include "src/core/reorder.hpp"
 
 #include <fmt/format.h>
@@ -80,8 +83,7 @@ class DemSolver {
         box_hi_(box_hi),
         gravity_(gravity),
         history_(spheres.n, options.history_capacity),
-        v_ahead_("dvisph::dem::v_ahead", spheres.n),
-        omega_ahead_("dvisph::dem::omega_ahead", spheres.n),
+        kinematics_(spheres.n),
         x_listed_("dvisph::dem::x_listed", spheres.n),
         status_("dvisph::dem::status") {
     const int n = spheres_.n;
@@ -126,8 +128,9 @@ class DemSolver {
     return std::sqrt(fastest);
   }
   // Seconds spent in each stage of the steps so far (each fenced), in step order.
-  static constexpr const char* stage_names[] = {"kick_drift", "contact_list", "contact_forces", "kick"};
-  const std::array<double, 4>& stage_seconds() const { return stage_seconds_; }
+  static constexpr const char* stage_names[] = {"kick_drift", "contact_list", "pair_contacts",
+                                                "gather_contacts", "kick"};
+  const std::array<double, 5>& stage_seconds() const { return stage_seconds_; }
 
   void set_wall_active(int w, bool active) {
     walls_.at(w).active = active;
@@ -251,15 +254,16 @@ class DemSolver {
   // member functions alone).
 
   // v += dt/2 a, x += dt v; and the predicted velocity over the next drift, v + dt a,
-  // that the contact law needs to place each contact's start and end in the step.
+  // that the contact law needs to place each contact's start and end in the step, all
+  // written to the contact kinematics too. dt = 0 packs the state as it is.
   void kick_drift(Real dt) {
     const auto x = spheres_.x, v = spheres_.v;
     const auto om = spheres_.omega;  // rotational: [rdim] columns
     const auto f = spheres_.force, fext = spheres_.f_ext;
     const auto t = spheres_.torque;  // rotational: [rdim] columns
-    const auto m = spheres_.mass, I = spheres_.inertia;
-    const auto va = v_ahead_;
-    const auto wa = omega_ahead_;  // rotational: [rdim] columns
+    const auto m = spheres_.mass, I = spheres_.inertia, rad = spheres_.radius;
+    const auto kin = kinematics_.row;
+    using K = ContactKinematics<D, Space>;
     const auto status = status_;
     const Vec<D> g = gravity_, lo = box_lo_, hi = box_hi_;
     const Periodic<D> periodic = cells_.grid().periodic;
@@ -273,15 +277,19 @@ class DemSolver {
             const Real a = (f(i, k) + fext(i, k)) / m(i) + g[k];
             v(i, k) += 0.5 * dt * a;
             x(i, k) = periodic.wrap(x(i, k) + dt * v(i, k), k);
-            va(i, k) = v(i, k) + dt * a;
+            kin(i, K::x0 + k) = x(i, k);
+            kin(i, K::v0 + k) = v(i, k);
+            kin(i, K::va0 + k) = v(i, k) + dt * a;
             move2 += dt * dt * v(i, k) * v(i, k);
             outside = outside || !(x(i, k) >= lo[k] && x(i, k) <= hi[k]);
           }
           for (int c = 0; c < R; ++c) {
             const Real alpha = rotation ? t(i, c) / I(i) : 0;
             om(i, c) += 0.5 * dt * alpha;
-            wa(i, c) = om(i, c) + dt * alpha;
+            kin(i, K::w0 + c) = om(i, c);
+            kin(i, K::wa0 + c) = om(i, c) + dt * alpha;
           }
+          kin(i, K::r0) = rad(i);
           if (outside) Kokkos::atomic_fetch_max(&status(outside_bead), i + 1);
           if (move2 > max_move2) Kokkos::atomic_fetch_max(&status(fast_bead), i + 1);
         });
@@ -304,68 +312,116 @@ class DemSolver {
   }
 
   // Contact force and torque on each bead at the current positions, with the half-step
-  // velocities in v and omega and the predicted ones in v_ahead_ and omega_ahead_;
-  // writes the history of the contacts alive now into the next table.
+  // velocities and the predicted ones in the contact kinematics (kick_drift);
+  // writes the history of the contacts alive now into the next table. Each bead pair is
+  // evaluated once, by its lower index, which adds its side and leaves the pair's force
+  // for the other bead (the law is antisymmetric: the other side is the exact
+  // opposite); then every bead gathers those and adds its walls.
   void contact_forces(Real dt) {
-    const auto x = spheres_.x, v = spheres_.v;
-    const auto om = spheres_.omega;  // rotational: [rdim] columns
-    const auto va = v_ahead_;
-    const auto wa = omega_ahead_;  // rotational: [rdim] columns
-    const auto rad = spheres_.radius, m = spheres_.mass;
+    pair_contacts(dt);
+    gather_contacts(dt);
+  }
+
+  void pair_contacts(Real dt) {
+    const auto kin = kinematics_;
+    const auto m = spheres_.mass;
+    const auto id = spheres_.id;
+    const auto f = spheres_.force;
+    const auto t = spheres_.torque;  // rotational: [rdim] columns
+    const Law law = law_;
+    const auto list = half_.rows();
+    const Real radius2 = search_radius_ * search_radius_;
+    const Periodic<D> periodic = cells_.grid().periodic;
+    const auto old = history_.current();
+    const auto out = history_.writer();
+    const auto pairs = pairs_;
+    const auto status = status_;
+    const Real max_overlap = options_.max_overlap;
+    Kokkos::parallel_for(
+        "dvisph::dem::pair_contacts", Kokkos::RangePolicy<Space>(0, spheres_.n), KOKKOS_LAMBDA(int i) {
+          const Vec<D> xi = kin.x(i), vi = kin.v(i), vai = kin.v_ahead(i);
+          const Rot<D> wi = kin.omega(i), wai = kin.omega_ahead(i);
+          const Real ri = kin.radius(i), mi = m(i);
+          Vec<D> fi = Vec<D>::zero();
+          Rot<D> ti = Rot<D>::zero();
+          int count = 0;
+          for (int a = list.upper_offsets(i); a < list.upper_offsets(i + 1); ++a) {
+            const int j = list.upper(a);
+            pairs.touching(a) = 0;
+            Vec<D> xij = xi - kin.x(j);
+            periodic.nearest_image(xij);
+            const Real r2 = dot(xij, xij);
+            if (!(r2 < radius2 && r2 > 0)) continue;
+            const Real r = math::sqrt(r2), rj = kin.radius(j);
+            // dv: i's centre relative to j's (before, after t); spin = r_i w_i + r_j w_j,
+            // so the contact points move apart at dv - spin x nrm.
+            const Vec<D> nrm = (1 / r) * xij, dv = vi - kin.v(j), dva = vai - kin.v_ahead(j);
+            const Overlaps d = Overlaps::along(ri + rj - r, dot(dv, nrm), dot(dva, nrm), dt);
+            if (!d.touching()) continue;
+            if (d.now > max_overlap * math::min(ri, rj)) Kokkos::atomic_fetch_max(&status(deep_bead), i + 1);
+            const Rot<D> spin = ri * wi + rj * kin.omega(j), spina = ri * wai + rj * kin.omega_ahead(j);
+            const Contact<D> c{d, nrm, dv - cross(spin, nrm), dva - cross(spina, nrm), mi * m(j) / (mi + m(j))};
+            const ContactResponse<D> res = law(c, old.find(i, id(j)), dt);
+            const Rot<D> moment = cross(nrm, res.force);
+            fi += res.force;
+            ti += (-ri) * moment;
+            out.add(i, count, id(j), res.xi);
+            pairs.set(a, res.force, moment, res.xi);
+          }
+          for (int k = 0; k < D; ++k) f(i, k) = fi[k];
+          for (int c = 0; c < R; ++c) t(i, c) = ti[c];
+          out.close(i, count);
+        });
+  }
+
+  void gather_contacts(Real dt) {
+    const auto kin = kinematics_;
+    const auto m = spheres_.mass;
     const auto id = spheres_.id;
     const auto f = spheres_.force;
     const auto t = spheres_.torque;  // rotational: [rdim] columns
     const auto walls = walls_d_;
     const int nw = static_cast<int>(walls_.size());
     const Law law = law_;
-    const auto sweep = list_.sweep(search_radius_);
+    const auto list = half_.rows();
+    const auto pairs = pairs_;
     const auto old = history_.current();
     const auto out = history_.writer();
     const auto status = status_;
-    const Real max_overlap = options_.max_overlap;
+    const Real max_overlap = options_.max_overlap, skin = skin_;
+    using P = PairContacts<D, Space>;
     Kokkos::parallel_for(
-        "dvisph::dem::contact_forces", Kokkos::RangePolicy<Space>(0, spheres_.n),
-        KOKKOS_LAMBDA(int i) {
-          const Vec<D> xi = row<D>(x, i), vi = row<D>(v, i), vai = row<D>(va, i);
-          const Rot<D> wi = row<R>(om, i), wai = row<R>(wa, i);
-          const Real ri = rad(i), mi = m(i);
-          Vec<D> fi = Vec<D>::zero();
-          Rot<D> ti = Rot<D>::zero();
-          int count = 0;
-          // A contact with partner p along the unit normal nrm (partner to bead i): dv is
-          // the velocity of i's centre relative to the partner's (before, after t) and
-          // spin = r_i w_i + r_p w_p, so the contact points move apart at dv - spin x nrm.
-          // The overlaps over the step come first: most listed pairs do not touch, and
-          // they cost no more than that.
-          const auto touch = [&](int p, const Vec<D>& nrm, const Overlaps& d, const Vec<D>& dv,
-                                 const Vec<D>& dva, const Rot<D>& spin, const Rot<D>& spina,
-                                 Real m_eff, Real r_small) {
-            if (d.now > max_overlap * r_small) Kokkos::atomic_fetch_max(&status(deep_bead), i + 1);
-            const Contact<D> c{d, nrm, dv - cross(spin, nrm), dva - cross(spina, nrm), m_eff};
-            const ContactResponse<D> r = law(c, old.find(i, p), dt);
-            fi += r.force;
-            ti += (-ri) * cross(nrm, r.force);
-            out.add(i, count, p, r.xi);
-          };
-          sweep.for_each(i, xi, [&](int j, const Vec<D>& xij, Real r) {
-            if (j == i || r == 0) return;
-            const Real rj = rad(j);
-            const Vec<D> nrm = (1 / r) * xij, dv = vi - row<D>(v, j), dva = vai - row<D>(va, j);
-            const Overlaps d = Overlaps::along(ri + rj - r, dot(dv, nrm), dot(dva, nrm), dt);
-            if (!d.touching()) return;
-            Rot<D> spin, spina;
-            for (int c = 0; c < R; ++c) {
-              spin[c] = ri * wi[c] + rj * om(j, c);
-              spina[c] = ri * wai[c] + rj * wa(j, c);
-            }
-            touch(id(j), nrm, d, dv, dva, spin, spina, mi * m(j) / (mi + m(j)), math::min(ri, rj));
-          });
+        "dvisph::dem::gather_contacts", Kokkos::RangePolicy<Space>(0, spheres_.n), KOKKOS_LAMBDA(int i) {
+          const Real ri = kin.radius(i);
+          Vec<D> fi = row<D>(f, i);
+          Rot<D> ti = row<R>(t, i);
+          int count = out.count(i);
+          // the pairs that partners j < i evaluated: this side is the opposite
+          for (int b = list.lower_offsets(i); b < list.lower_offsets(i + 1); ++b) {
+            const int e = list.lower_entry(b);
+            if (!pairs.touching(e)) continue;
+            fi += (-1.0) * pairs.template get<D>(e, P::force);
+            ti += (-ri) * pairs.template get<R>(e, P::moment);
+            out.add(i, count, id(list.lower(b)), (-1.0) * pairs.template get<D>(e, P::xi));
+          }
+          const Vec<D> xi = kin.x(i), vi = kin.v(i), vai = kin.v_ahead(i);
+          const Rot<D> wi = kin.omega(i), wai = kin.omega_ahead(i);
           for (int w = 0; w < nw; ++w) {
             const PlaneWall<D> wall = walls(w);
             if (!wall.active) continue;
-            const Overlaps d =
-                Overlaps::along(ri - wall.distance(xi), dot(vi, wall.normal), dot(vai, wall.normal), dt);
-            if (d.touching()) touch(-(w + 1), wall.normal, d, vi, vai, ri * wi, ri * wai, mi, ri);
+            // walls beyond the search skin are skipped, as listed pairs are
+            const Real gap = wall.distance(xi) - ri;
+            if (gap > skin) continue;
+            const Vec<D>& nrm = wall.normal;
+            const Overlaps d = Overlaps::along(-gap, dot(vi, nrm), dot(vai, nrm), dt);
+            if (!d.touching()) continue;
+            if (d.now > max_overlap * ri) Kokkos::atomic_fetch_max(&status(deep_bead), i + 1);
+            const int p = -(w + 1);
+            const Contact<D> c{d, nrm, vi - cross(ri * wi, nrm), vai - cross(ri * wai, nrm), m(i)};
+            const ContactResponse<D> res = law(c, old.find(i, p), dt);
+            fi += res.force;
+            ti += (-ri) * cross(nrm, res.force);
+            out.add(i, count, p, res.xi);
           }
           for (int k = 0; k < D; ++k) f(i, k) = fi[k];
           for (int c = 0; c < R; ++c) t(i, c) = ti[c];
@@ -396,6 +452,8 @@ class DemSolver {
     cells_.build(spheres_.x, spheres_.n);
     list_.build(CellSweep<D, Space>(cells_, spheres_.x, search_radius_ + list_skin_), spheres_.x,
                 spheres_.n);
+    half_.build(list_.sweep(), spheres_.n);
+    pairs_.reserve(half_.pairs());
     Kokkos::deep_copy(x_listed_, spheres_.x);
     ++list_builds_;
   }
@@ -410,8 +468,7 @@ class DemSolver {
     if (changed) upload_walls();
     if (!forces_ready_) {
       // forces at the start, from the velocities now; the history is not advanced
-      Kokkos::deep_copy(v_ahead_, spheres_.v);
-      Kokkos::deep_copy(omega_ahead_, spheres_.omega);
+      kick_drift(0);
       contact_forces(dt);
       forces_ready_ = true;
     }
@@ -419,11 +476,12 @@ class DemSolver {
     timed(1, [&] {
       if (list_due()) build_list();
     });
-    timed(2, [&] {
-      contact_forces(dt);
+    timed(2, [&] { pair_contacts(dt); });
+    timed(3, [&] {
+      gather_contacts(dt);
       history_.commit();
     });
-    timed(3, [&] { kick(dt); });
+    timed(4, [&] { kick(dt); });
     time_ += dt;
   }
 
@@ -484,14 +542,15 @@ class DemSolver {
   Vec<D> box_lo_, box_hi_, gravity_;
   CellList<D, Space> cells_;
   NeighborList<D, Space> list_;
+  HalfPairs<Space> half_;
+  PairContacts<D, Space> pairs_;
   ContactHistory<D, Space> history_;
-  Kokkos::View<Real* [D], memory_space> v_ahead_;
-  Kokkos::View<Real* [R], memory_space> omega_ahead_;
+  ContactKinematics<D, Space> kinematics_;
   Kokkos::View<Real* [D], memory_space> x_listed_;  // positions at the last list build
   Kokkos::View<int[flags], memory_space> status_;
   Real skin_ = 0, search_radius_ = 0, list_skin_ = 0, dt_ = 0, time_ = 0;
   long list_builds_ = 0;
-  std::array<double, 4> stage_seconds_ = {};
+  std::array<double, 5> stage_seconds_ = {};
   bool forces_ready_ = false;
 };
 

@@ -81,6 +81,7 @@ struct LinearSpringDashpot {
   Real e;     // normal restitution coefficient
   Real zeta;  // damping ratio from e
   bool non_attractive = false;  // clamp F_n >= 0 (changes e, see above)
+  Real eta_n_unit, eta_t_unit;  // the dashpots per sqrt(kg): one square root per contact
 
   LinearSpringDashpot(Real k_normal, Real restitution, Real friction)
       : k_n(k_normal), k_t(2.0 / 7.0 * k_normal), mu(friction), e(restitution) {
@@ -89,11 +90,13 @@ struct LinearSpringDashpot {
     if (!(mu >= 0)) throw std::invalid_argument("LinearSpringDashpot: mu must be >= 0");
     const Real le = std::log(e);
     zeta = -le / std::sqrt(math::pi * math::pi + le * le);
+    eta_n_unit = 2 * zeta * std::sqrt(k_n);
+    eta_t_unit = 2 * zeta * std::sqrt(k_t);
   }
 
-  KOKKOS_INLINE_FUNCTION Real eta_n(Real m_eff) const { return 2 * zeta * math::sqrt(m_eff * k_n); }
+  KOKKOS_INLINE_FUNCTION Real eta_n(Real m_eff) const { return eta_n_unit * math::sqrt(m_eff); }
   // Same damping ratio on the tangential spring.
-  KOKKOS_INLINE_FUNCTION Real eta_t(Real m_eff) const { return 2 * zeta * math::sqrt(m_eff * k_t); }
+  KOKKOS_INLINE_FUNCTION Real eta_t(Real m_eff) const { return eta_t_unit * math::sqrt(m_eff); }
 
   // Duration of a binary collision: half a period of the damped normal oscillation.
   Real contact_time(Real m_eff) const {
@@ -118,7 +121,8 @@ struct LinearSpringDashpot {
         interior
             ? d.now
             : 0.5 * (Overlaps::positive_mean(d.lo, d.now) + Overlaps::positive_mean(d.now, d.hi));
-    Real fn = k_n * d_spring + eta_n(c.m_eff) * (math::max(d.hi, 0) - math::max(d.lo, 0)) / dt;
+    const Real sqrt_m = math::sqrt(c.m_eff);
+    Real fn = k_n * d_spring + eta_n_unit * sqrt_m * (math::max(d.hi, 0) - math::max(d.lo, 0)) / dt;
     if (non_attractive) fn = math::max(fn, 0);
 
     // Tangential displacement: the old one turned into the current tangent plane (same
@@ -132,21 +136,22 @@ struct LinearSpringDashpot {
     // Sliding (the spring alone would pass the limit): the spring gives way to hold
     // exactly the limit and the dashpot is off. Shrinking xi only, never stretching it
     // (as the common xi = -(F_t + eta_t v_t)/k_t can when the dashpot dominates), keeps
-    // the limit from storing energy in the spring.
+    // the limit from storing energy in the spring. Lengths are compared squared, so a
+    // contact that sticks takes no square root here.
     const Real in_contact =
         0.5 * (Overlaps::positive_fraction(d.lo, d.now) + Overlaps::positive_fraction(d.now, d.hi));
     // Only compression presses the surfaces together: while the dashpot pulls (fn < 0)
     // there is no friction to hold.
-    const Real limit = mu * math::max(fn, 0) / in_contact;
-    const Real spring = k_t * math::sqrt(dot(xi, xi));
+    const Real limit = mu * math::max(fn, 0) / in_contact, limit2 = limit * limit;
+    const Real xi2 = dot(xi, xi);
     Vec<D> ft;
-    if (spring > limit) {
-      xi = (limit / spring) * xi;
+    if (k_t * k_t * xi2 > limit2) {
+      xi = (limit / (k_t * math::sqrt(xi2))) * xi;
       ft = (-k_t) * xi;
     } else {
-      ft = (-k_t) * xi + (-eta_t(c.m_eff)) * tangential(0.5 * (c.v_before + c.v_after), n);
-      const Real ft_norm = math::sqrt(dot(ft, ft));
-      if (ft_norm > limit) ft = (limit / ft_norm) * ft;
+      ft = (-k_t) * xi + (-eta_t_unit * sqrt_m) * tangential(0.5 * (c.v_before + c.v_after), n);
+      const Real ft2 = dot(ft, ft);
+      if (ft2 > limit2) ft = (limit / math::sqrt(ft2)) * ft;
     }
     return {fn * n + in_contact * ft, xi};
   }

@@ -1,0 +1,38 @@
+#pragma once
+// What the contact kernels read of a bead, packed in one row per bead: centre, radius,
+// the half-step velocities (translation and spin) over the drift before the force
+// sample, and the predicted ones over the drift after it (method: linear_spring_dashpot.hpp).
+// A pair reads its partner's row as 16 contiguous doubles (3D: two cache lines) rather
+// than from seven arrays; kick_drift writes the rows as it moves the beads.
+#include "solvers/dem/rotation.hpp"
+
+namespace dvisph::dem {
+
+template <int D, class Space>
+struct ContactKinematics {
+  using memory_space = typename Space::memory_space;
+  static constexpr int R = rot_dim<D>;
+  static constexpr int x0 = 0, v0 = D, va0 = 2 * D, w0 = 3 * D, wa0 = 3 * D + R, r0 = 3 * D + 2 * R;
+  static constexpr int width = 3 * D + 2 * R + 1;
+
+  Kokkos::View<Real* [width], memory_space> row;
+
+  ContactKinematics() = default;
+  explicit ContactKinematics(int n)
+      : row(Kokkos::view_alloc(Kokkos::WithoutInitializing, "dvisph::dem::contact_kinematics"), n) {}
+
+  template <int N>
+  KOKKOS_INLINE_FUNCTION Vec<N> get(int i, int first) const {
+    Vec<N> r;
+    for (int k = 0; k < N; ++k) r[k] = row(i, first + k);
+    return r;
+  }
+  KOKKOS_INLINE_FUNCTION Vec<D> x(int i) const { return get<D>(i, x0); }
+  KOKKOS_INLINE_FUNCTION Vec<D> v(int i) const { return get<D>(i, v0); }
+  KOKKOS_INLINE_FUNCTION Vec<D> v_ahead(int i) const { return get<D>(i, va0); }
+  KOKKOS_INLINE_FUNCTION Rot<D> omega(int i) const { return get<R>(i, w0); }
+  KOKKOS_INLINE_FUNCTION Rot<D> omega_ahead(int i) const { return get<R>(i, wa0); }
+  KOKKOS_INLINE_FUNCTION Real radius(int i) const { return row(i, r0); }
+};
+
+}  // namespace dvisph::dem

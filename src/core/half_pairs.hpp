@@ -1,0 +1,92 @@
+#pragma once
+// A symmetric stored neighbour list (j is in row i exactly when i is in row j, as a
+// list of one set within one radius is) split so that a pair kernel evaluates each pair
+// once: `upper` row i holds the partners j > i, in the list's order, and a kernel stores
+// what it finds for pair (i, j) at that entry; `lower` row i holds the partners j < i,
+// in the list's order, each with the upper entry where pair (j, i) is stored. A particle
+// then adds its upper pairs and gathers its lower ones in a fixed order: half the pair
+// work, no atomics, and the same sums in the same order on every backend.
+#include "src/core/csr_rows.hpp"
+
+#include <stdexcept>
+
+namespace dvisph {
+
+template <class Space>
+class HalfPairs {
+ public:
+  using memory_space = typename Space::memory_space;
+  using Ints = Kokkos::View<int*, memory_space>;
+
+  struct Rows {
+    Kokkos::View<const int*, memory_space> upper_offsets, upper, lower_offsets, lower, lower_entry;
+  };
+
+  // The build's kernels are functors, for the reason NeighborList gives.
+  template <class List, bool Above>
+  struct Count {
+    List list;
+    KOKKOS_INLINE_FUNCTION int operator()(int i) const {
+      int count = 0;
+      for (int a = list.offsets(i); a < list.offsets(i + 1); ++a) {
+        const int j = list.neighbors(a);
+        count += Above ? j > i : j < i;
+      }
+      return count;
+    }
+  };
+  template <class List>
+  struct Fill {
+    List list;
+    Ints upper_offsets, upper, lower_offsets, lower, lower_entry;
+    Kokkos::View<int, memory_space> unmatched;
+    KOKKOS_INLINE_FUNCTION void operator()(int i) const {
+      int u = upper_offsets(i), l = lower_offsets(i);
+      for (int a = list.offsets(i); a < list.offsets(i + 1); ++a) {
+        const int j = list.neighbors(a);
+        if (j > i) {
+          upper(u++) = j;
+        } else if (j < i) {
+          // where row j's upper part holds i: row j's partners above j, in list order
+          int e = upper_offsets(j), found = -1;
+          for (int b = list.offsets(j); b < list.offsets(j + 1) && found < 0; ++b) {
+            const int k = list.neighbors(b);
+            if (k == i) found = e;
+            e += k > j;
+          }
+          if (found < 0) Kokkos::atomic_increment(&unmatched());
+          lower(l) = j;
+          lower_entry(l++) = found;
+        }
+      }
+    }
+  };
+
+  // `list`: a NeighborList sweep (offsets, neighbors) over n rows.
+  template <class List>
+  void build(const List& list, int n) {
+    const int up = csr_offsets<Space>(upper_offsets_, n, Count<List, true>{list}, "dvisph::half_pairs::upper");
+    const int lo = csr_offsets<Space>(lower_offsets_, n, Count<List, false>{list}, "dvisph::half_pairs::lower");
+    if (up != lo) throw std::logic_error("HalfPairs: the neighbour list is not symmetric");
+    reserve_entries(upper_, up, "dvisph::half_pairs::upper");
+    reserve_entries(lower_, lo, "dvisph::half_pairs::lower");
+    reserve_entries(lower_entry_, lo, "dvisph::half_pairs::lower_entry");
+    const Kokkos::View<int, memory_space> unmatched("dvisph::half_pairs::unmatched");
+    Kokkos::parallel_for("dvisph::half_pairs::fill", Kokkos::RangePolicy<Space>(0, n),
+                         Fill<List>{list, upper_offsets_, upper_, lower_offsets_, lower_, lower_entry_, unmatched});
+    int missing = 0;
+    Kokkos::deep_copy(missing, unmatched);
+    if (missing != 0) throw std::logic_error("HalfPairs: the neighbour list is not symmetric");
+    pairs_ = up;
+  }
+
+  Rows rows() const { return {upper_offsets_, upper_, lower_offsets_, lower_, lower_entry_}; }
+  int pairs() const { return pairs_; }  // upper entries: each pair once
+  std::size_t bytes() const { return view_bytes(upper_offsets_, upper_, lower_offsets_, lower_, lower_entry_); }
+
+ private:
+  Ints upper_offsets_, upper_, lower_offsets_, lower_, lower_entry_;
+  int pairs_ = 0;
+};
+
+}  // namespace dvisph
