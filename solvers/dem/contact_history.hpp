@@ -1,12 +1,11 @@
 #pragma once
-// Tangential contact history on the device: for each particle, a fixed-capacity list of
-// its current partners (by stable id; wall w as -(w + 1)) with the tangential
-// displacement of each contact. Each particle of a pair keeps its own copy, so the force
-// kernel writes only its own row (no atomics) and, the law being antisymmetric, the two
-// copies stay exact opposites. The force kernel reads the list of the last step and
-// writes a new one holding exactly the contacts alive now; looking partners up by id
-// keeps the history right when partners change cells or the particle order changes.
-// A contact that does not fit is counted; the solver reports the count as an error.
+// Tangential contact history keyed by partner: for each particle, a fixed-capacity list
+// of its current partners (by stable id; wall w as -(w + 1)) with the tangential
+// displacement of each contact. Each particle of a pair holds its own copy (the two are
+// exact opposites). The step keeps the history at the listed pairs (pair_contacts.hpp);
+// this form is what survives a new list, a reorder (rows follow the particles, partners
+// are found by id) and a checkpoint. A contact that does not fit is counted; the solver
+// reports the count as an error.
 #include "src/checkpoint.hpp"
 #include "src/core/types.hpp"
 
@@ -31,11 +30,11 @@ class ContactHistory {
           partner(Kokkos::view_alloc(Kokkos::WithoutInitializing, name + "::partner"), n, capacity),
           xi(Kokkos::view_alloc(Kokkos::WithoutInitializing, name + "::xi"), n, capacity) {}
 
-    // Tangential displacement of particle i's contact with `p`; zero for a new contact.
-    KOKKOS_INLINE_FUNCTION Vec<D> find(int i, int p) const {
+    // Slot of particle i's contact with `p`, -1 if none.
+    KOKKOS_INLINE_FUNCTION int find(int i, int p) const {
       for (int s = 0; s < count(i); ++s)
-        if (partner(i, s) == p) return slot(i, s);
-      return Vec<D>::zero();
+        if (partner(i, s) == p) return s;
+      return -1;
     }
     KOKKOS_INLINE_FUNCTION Vec<D> slot(int i, int s) const {
       Vec<D> r;
@@ -44,7 +43,7 @@ class ContactHistory {
     }
   };
 
-  // Fills one particle's row of the new table in the force kernel.
+  // Fills one particle's row.
   struct Writer {
     Table table;
     Kokkos::View<int, memory_space> overflow;
@@ -59,22 +58,17 @@ class ContactHistory {
       ++count;
     }
     KOKKOS_INLINE_FUNCTION void close(int i, int count) const { table.count(i) = count; }
-    // The count closed so far, for a row filled by two kernels.
-    KOKKOS_INLINE_FUNCTION int count(int i) const { return table.count(i); }
   };
 
   ContactHistory() = default;
   ContactHistory(int n, int capacity)
       : capacity_(capacity),
-        current_("dvisph::dem::history::a", n, capacity),
-        next_("dvisph::dem::history::b", n, capacity),
+        table_("dvisph::dem::history", n, capacity),
         overflow_("dvisph::dem::history::overflow") {}
 
   int capacity() const { return capacity_; }
-  const Table& current() const { return current_; }
-  Writer writer() const { return {next_, overflow_, capacity_}; }
-  // The table just written becomes the current one.
-  void commit() { std::swap(current_, next_); }
+  const Table& table() const { return table_; }
+  Writer writer() const { return {table_, overflow_, capacity_}; }
 
   // Contacts dropped for lack of room since construction.
   int overflows() const {
@@ -83,23 +77,22 @@ class ContactHistory {
     return h;
   }
 
-  // The current table (the next is rewritten before it is read).
   void save(Checkpoint& c, const std::string& prefix) const {
-    c.put(prefix + "count", current_.count);
-    c.put(prefix + "partner", current_.partner);
-    c.put(prefix + "xi", current_.xi);
+    c.put(prefix + "count", table_.count);
+    c.put(prefix + "partner", table_.partner);
+    c.put(prefix + "xi", table_.xi);
   }
   void restore(const Checkpoint& c, const std::string& prefix) {
-    c.get(prefix + "count", current_.count);
-    c.get(prefix + "partner", current_.partner);
-    c.get(prefix + "xi", current_.xi);
+    c.get(prefix + "count", table_.count);
+    c.get(prefix + "partner", table_.partner);
+    c.get(prefix + "xi", table_.xi);
   }
 
-  // Row perm(a) of the current table becomes row a, as the particles are reordered.
+  // Row perm(a) becomes row a, as the particles are reordered.
   template <class Perm>
   void permute(const Perm& perm) {
     const int n = static_cast<int>(perm.extent(0));
-    const Table in = current_, out("dvisph::dem::history::permuted", n, capacity_);
+    const Table in = table_, out("dvisph::dem::history::permuted", n, capacity_);
     Kokkos::parallel_for(
         "dvisph::dem::history::permute", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int a) {
           const int i = perm(a);
@@ -109,12 +102,12 @@ class ContactHistory {
             for (int k = 0; k < D; ++k) out.xi(a, s, k) = in.xi(i, s, k);
           }
         });
-    current_ = out;
+    table_ = out;
   }
 
  private:
   int capacity_ = 0;
-  Table current_, next_;
+  Table table_;
   Kokkos::View<int, memory_space> overflow_;
 };
 

@@ -82,6 +82,7 @@ class DemSolver {
         box_lo_(box_lo),
         box_hi_(box_hi),
         gravity_(gravity),
+        pairs_(spheres.n, static_cast<int>(walls_.size())),
         history_(spheres.n, options.history_capacity),
         kinematics_(spheres.n),
         x_listed_("dvisph::dem::x_listed", spheres.n),
@@ -97,6 +98,7 @@ class DemSolver {
     list_skin_ = options_.list_skin * 2 * r_max;
     cells_ = CellList<D, Space>(Grid<D>(box_lo, box_hi, search_radius_ + list_skin_, options_.periodic_axes));
     build_list();
+    load_history();
     // the lightest pair collides fastest
     dt_ = options_.safety * law_.contact_time(0.5 * m_min);
     walls_d_ = Kokkos::View<PlaneWall<D>*, memory_space>(
@@ -159,8 +161,10 @@ class DemSolver {
       gather_rows<Space>(tmp, field, perm);
       Kokkos::deep_copy(field, tmp);
     });
+    store_history();
     history_.permute(perm);
     build_list();
+    load_history();
   }
 
   // The whole state (beads in their current order, contact history, open gates, clock,
@@ -170,6 +174,7 @@ class DemSolver {
   void save(Checkpoint& c) const {
     auto s = spheres_;
     s.for_each_field([&](const char* name, const auto& field) { c.put(std::string("dem/") + name, field); });
+    store_history();
     history_.save(c, "dem/history/");
     for (std::size_t w = 0; w < walls_.size(); ++w)
       c.set(fmt::format("dem/wall_{}_active", w), walls_[w].active);
@@ -196,15 +201,22 @@ class DemSolver {
     } else {
       build_list();
     }
+    load_history();
   }
 
   // Mean number of contacts per bead (walls included) at the last force evaluation.
   Real contacts_per_bead() const {
-    const auto count = history_.current().count;
+    const auto pairs = pairs_;
+    const auto list = half_.rows();
+    const int nw = static_cast<int>(walls_.size());
     long total = 0;
     Kokkos::parallel_reduce(
         "dvisph::dem::count_contacts", Kokkos::RangePolicy<Space>(0, spheres_.n),
-        KOKKOS_LAMBDA(int i, long& s) { s += count(i); }, total);
+        KOKKOS_LAMBDA(int i, long& s) {
+          for (int a = list.upper_offsets(i); a < list.upper_offsets(i + 1); ++a) s += 2 * pairs.touching(a);
+          for (int w = 0; w < nw; ++w) s += pairs.wall_touching(i, w);
+        },
+        total);
     return static_cast<Real>(total) / spheres_.n;
   }
 
@@ -219,7 +231,8 @@ class DemSolver {
     const auto walls = walls_d_;
     const int nw = static_cast<int>(walls_.size());
     const auto sweep = list_.sweep(search_radius_);
-    const auto hist = history_.current();
+    const auto pairs = pairs_;
+    const auto list = half_.rows();
     const auto policy = Kokkos::RangePolicy<Space>(0, spheres_.n);
     Energy e;
     Kokkos::parallel_reduce(
@@ -243,8 +256,14 @@ class DemSolver {
           });
           for (int w = 0; w < nw; ++w)
             if (walls(w).active) s += law.energy(rad(i) - walls(w).distance(xi), zero);
-          for (int a = 0; a < hist.count(i); ++a)
-            s += (hist.partner(i, a) < 0 ? 1.0 : 0.5) * law.energy(0, hist.slot(i, a));
+          using P = PairContacts<D, Space>;
+          for (int a = list.upper_offsets(i); a < list.upper_offsets(i + 1); ++a)
+            s += law.energy(0, P::template get<D>(pairs.xi, a));
+          for (int w = 0; w < nw; ++w) {
+            Vec<D> xw;
+            for (int k = 0; k < D; ++k) xw[k] = pairs.wall_xi(i, w, k);
+            s += law.energy(0, xw);
+          }
         },
         e.spring);
     return e;
@@ -332,11 +351,10 @@ class DemSolver {
     const auto list = half_.rows();
     const Real radius2 = search_radius_ * search_radius_;
     const Periodic<D> periodic = cells_.grid().periodic;
-    const auto old = history_.current();
-    const auto out = history_.writer();
     const auto pairs = pairs_;
     const auto status = status_;
     const Real max_overlap = options_.max_overlap;
+    using P = PairContacts<D, Space>;
     Kokkos::parallel_for(
         "dvisph::dem::pair_contacts", Kokkos::RangePolicy<Space>(0, spheres_.n), KOKKOS_LAMBDA(int i) {
           const Vec<D> xi = kin.x(i), vi = kin.v(i), vai = kin.v_ahead(i);
@@ -344,40 +362,48 @@ class DemSolver {
           const Real ri = kin.radius(i), mi = m(i);
           Vec<D> fi = Vec<D>::zero();
           Rot<D> ti = Rot<D>::zero();
-          int count = 0;
           for (int a = list.upper_offsets(i); a < list.upper_offsets(i + 1); ++a) {
             const int j = list.upper(a);
-            pairs.touching(a) = 0;
+            const bool touched = pairs.touching(a);  // at the last step: xi(a) is its history
+            bool touches = false;
             Vec<D> xij = xi - kin.x(j);
             periodic.nearest_image(xij);
             const Real r2 = dot(xij, xij);
-            if (!(r2 < radius2 && r2 > 0)) continue;
-            const Real r = math::sqrt(r2), rj = kin.radius(j);
-            // dv: i's centre relative to j's (before, after t); spin = r_i w_i + r_j w_j,
-            // so the contact points move apart at dv - spin x nrm.
-            const Vec<D> nrm = (1 / r) * xij, dv = vi - kin.v(j), dva = vai - kin.v_ahead(j);
-            const Overlaps d = Overlaps::along(ri + rj - r, dot(dv, nrm), dot(dva, nrm), dt);
-            if (!d.touching()) continue;
-            if (d.now > max_overlap * math::min(ri, rj)) Kokkos::atomic_fetch_max(&status(deep_bead), i + 1);
-            const Rot<D> spin = ri * wi + rj * kin.omega(j), spina = ri * wai + rj * kin.omega_ahead(j);
-            const Contact<D> c{d, nrm, dv - cross(spin, nrm), dva - cross(spina, nrm), mi * m(j) / (mi + m(j))};
-            const ContactResponse<D> res = law(c, old.find(i, id(j)), dt);
-            const Rot<D> moment = cross(nrm, res.force);
-            fi += res.force;
-            ti += (-ri) * moment;
-            out.add(i, count, id(j), res.xi);
-            pairs.set(a, res.force, moment, res.xi);
+            if (r2 < radius2 && r2 > 0) {
+              const Real r = math::sqrt(r2), rj = kin.radius(j);
+              // dv: i's centre relative to j's (before, after t); spin = r_i w_i + r_j w_j,
+              // so the contact points move apart at dv - spin x nrm.
+              const Vec<D> nrm = (1 / r) * xij, dv = vi - kin.v(j), dva = vai - kin.v_ahead(j);
+              const Overlaps d = Overlaps::along(ri + rj - r, dot(dv, nrm), dot(dva, nrm), dt);
+              touches = d.touching();
+              if (touches) {
+                if (d.now > max_overlap * math::min(ri, rj)) Kokkos::atomic_fetch_max(&status(deep_bead), i + 1);
+                const Rot<D> spin = ri * wi + rj * kin.omega(j), spina = ri * wai + rj * kin.omega_ahead(j);
+                const Contact<D> c{d, nrm, dv - cross(spin, nrm), dva - cross(spina, nrm), mi * m(j) / (mi + m(j))};
+                const ContactResponse<D> res =
+                    law(c, touched ? P::template get<D>(pairs.xi, a) : Vec<D>::zero(), dt);
+                const Rot<D> moment = cross(nrm, res.force);
+                fi += res.force;
+                ti += (-ri) * moment;
+                for (int k = 0; k < D; ++k) pairs.record(a, P::force + k) = res.force[k];
+                for (int q = 0; q < R; ++q) pairs.record(a, P::moment + q) = moment[q];
+                for (int k = 0; k < D; ++k) pairs.xi(a, k) = res.xi[k];
+              }
+            }
+            if (touches != touched) {
+              pairs.touching(a) = touches;
+              if (!touches)  // a contact that ends leaves no history
+                for (int k = 0; k < D; ++k) pairs.xi(a, k) = 0;
+            }
           }
           for (int k = 0; k < D; ++k) f(i, k) = fi[k];
           for (int c = 0; c < R; ++c) t(i, c) = ti[c];
-          out.close(i, count);
         });
   }
 
   void gather_contacts(Real dt) {
     const auto kin = kinematics_;
     const auto m = spheres_.mass;
-    const auto id = spheres_.id;
     const auto f = spheres_.force;
     const auto t = spheres_.torque;  // rotational: [rdim] columns
     const auto walls = walls_d_;
@@ -385,9 +411,8 @@ class DemSolver {
     const Law law = law_;
     const auto list = half_.rows();
     const auto pairs = pairs_;
-    const auto old = history_.current();
-    const auto out = history_.writer();
     const auto status = status_;
+    const int capacity = history_.capacity();
     const Real max_overlap = options_.max_overlap, skin = skin_;
     using P = PairContacts<D, Space>;
     Kokkos::parallel_for(
@@ -395,37 +420,96 @@ class DemSolver {
           const Real ri = kin.radius(i);
           Vec<D> fi = row<D>(f, i);
           Rot<D> ti = row<R>(t, i);
-          int count = out.count(i);
+          int count = 0;
+          for (int a = list.upper_offsets(i); a < list.upper_offsets(i + 1); ++a) count += pairs.touching(a);
           // the pairs that partners j < i evaluated: this side is the opposite
           for (int b = list.lower_offsets(i); b < list.lower_offsets(i + 1); ++b) {
             const int e = list.lower_entry(b);
             if (!pairs.touching(e)) continue;
-            fi += (-1.0) * pairs.template get<D>(e, P::force);
-            ti += (-ri) * pairs.template get<R>(e, P::moment);
-            out.add(i, count, id(list.lower(b)), (-1.0) * pairs.template get<D>(e, P::xi));
+            fi += (-1.0) * P::template get<D>(pairs.record, e, P::force);
+            ti += (-ri) * P::template get<R>(pairs.record, e, P::moment);
+            ++count;
           }
           const Vec<D> xi = kin.x(i), vi = kin.v(i), vai = kin.v_ahead(i);
           const Rot<D> wi = kin.omega(i), wai = kin.omega_ahead(i);
+          Vec<D> xi_old;
           for (int w = 0; w < nw; ++w) {
             const PlaneWall<D> wall = walls(w);
             if (!wall.active) continue;
             // walls beyond the search skin are skipped, as listed pairs are
             const Real gap = wall.distance(xi) - ri;
+            const bool touched = pairs.wall_touching(i, w);
+            if (touched) {  // until it is found touching again below
+              pairs.wall_touching(i, w) = 0;
+              for (int k = 0; k < D; ++k) xi_old[k] = pairs.wall_xi(i, w, k), pairs.wall_xi(i, w, k) = 0;
+            } else {
+              xi_old = Vec<D>::zero();
+            }
             if (gap > skin) continue;
             const Vec<D>& nrm = wall.normal;
             const Overlaps d = Overlaps::along(-gap, dot(vi, nrm), dot(vai, nrm), dt);
             if (!d.touching()) continue;
             if (d.now > max_overlap * ri) Kokkos::atomic_fetch_max(&status(deep_bead), i + 1);
-            const int p = -(w + 1);
             const Contact<D> c{d, nrm, vi - cross(ri * wi, nrm), vai - cross(ri * wai, nrm), m(i)};
-            const ContactResponse<D> res = law(c, old.find(i, p), dt);
+            const ContactResponse<D> res = law(c, xi_old, dt);
             fi += res.force;
             ti += (-ri) * cross(nrm, res.force);
-            out.add(i, count, p, res.xi);
+            for (int k = 0; k < D; ++k) pairs.wall_xi(i, w, k) = res.xi[k];
+            pairs.wall_touching(i, w) = 1;
+            ++count;
           }
           for (int k = 0; k < D; ++k) f(i, k) = fi[k];
           for (int c = 0; c < R; ++c) t(i, c) = ti[c];
+          if (count > capacity) Kokkos::atomic_fetch_max(&status(crowded_bead), i + 1);
+        });
+  }
+
+  // The contacts' history from the listed pairs into the id-keyed table (before a new
+  // list, a reorder or a checkpoint): each bead's upper pairs, lower pairs, walls.
+  void store_history() const {
+    const auto id = spheres_.id;
+    const auto list = half_.rows();
+    const auto pairs = pairs_;
+    const auto out = history_.writer();
+    const int nw = static_cast<int>(walls_.size());
+    using P = PairContacts<D, Space>;
+    Kokkos::parallel_for(
+        "dvisph::dem::store_history", Kokkos::RangePolicy<Space>(0, spheres_.n), KOKKOS_LAMBDA(int i) {
+          int count = 0;
+          for (int a = list.upper_offsets(i); a < list.upper_offsets(i + 1); ++a)
+            if (pairs.touching(a)) out.add(i, count, id(list.upper(a)), P::template get<D>(pairs.xi, a));
+          for (int b = list.lower_offsets(i); b < list.lower_offsets(i + 1); ++b) {
+            const int e = list.lower_entry(b);
+            if (pairs.touching(e)) out.add(i, count, id(list.lower(b)), (-1.0) * P::template get<D>(pairs.xi, e));
+          }
+          for (int w = 0; w < nw; ++w)
+            if (pairs.wall_touching(i, w)) {
+              Vec<D> xw;
+              for (int k = 0; k < D; ++k) xw[k] = pairs.wall_xi(i, w, k);
+              out.add(i, count, -(w + 1), xw);
+            }
           out.close(i, count);
+        });
+  }
+  // The table's history onto the listed pairs (after a new list is built).
+  void load_history() {
+    const auto id = spheres_.id;
+    const auto list = half_.rows();
+    const auto pairs = pairs_;
+    const auto table = history_.table();
+    const int nw = static_cast<int>(walls_.size());
+    Kokkos::parallel_for(
+        "dvisph::dem::load_history", Kokkos::RangePolicy<Space>(0, spheres_.n), KOKKOS_LAMBDA(int i) {
+          for (int a = list.upper_offsets(i); a < list.upper_offsets(i + 1); ++a) {
+            const int s = table.find(i, id(list.upper(a)));
+            pairs.touching(a) = s >= 0;
+            for (int k = 0; k < D; ++k) pairs.xi(a, k) = s >= 0 ? table.xi(i, s, k) : 0;
+          }
+          for (int w = 0; w < nw; ++w) {
+            const int s = table.find(i, -(w + 1));
+            pairs.wall_touching(i, w) = s >= 0;
+            for (int k = 0; k < D; ++k) pairs.wall_xi(i, w, k) = s >= 0 ? table.xi(i, s, k) : 0;
+          }
         });
   }
 
@@ -474,13 +558,14 @@ class DemSolver {
     }
     timed(0, [&] { kick_drift(dt); });
     timed(1, [&] {
-      if (list_due()) build_list();
+      if (list_due()) {
+        store_history();
+        build_list();
+        load_history();
+      }
     });
     timed(2, [&] { pair_contacts(dt); });
-    timed(3, [&] {
-      gather_contacts(dt);
-      history_.commit();
-    });
+    timed(3, [&] { gather_contacts(dt); });
     timed(4, [&] { kick(dt); });
     time_ += dt;
   }
@@ -502,7 +587,7 @@ class DemSolver {
   }
 
   // Flags set by the kernels: 1 + the highest index of a bead that did it, 0 none.
-  enum Flag { outside_bead, fast_bead, deep_bead, flags };
+  enum Flag { outside_bead, fast_bead, deep_bead, crowded_bead, flags };
 
   void check() const {
     const auto status = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), status_);
@@ -516,7 +601,9 @@ class DemSolver {
         "moved more than half the contact search skin in one step (contacts may be missed; "
         "lower the DEM step)",
         "overlaps a bead or wall by more than DemOptions::max_overlap of its radius (the DEM "
-        "step is too long or the stiffness too low for the speed)"};
+        "step is too long or the stiffness too low for the speed)",
+        "touches more beads and walls than the contact history holds "
+        "(DemOptions::history_capacity; raise it)"};
     for (int f = 0; f < flags; ++f) {
       if (status(f) == 0) continue;
       const int i = status(f) - 1;

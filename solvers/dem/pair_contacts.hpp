@@ -1,9 +1,12 @@
 #pragma once
-// What the contact kernel leaves at each listed bead pair (i, j), i < j, for bead j to
-// gather (src/core/half_pairs.hpp): whether the two touch and, if they do, the force on i, the
-// moment n x F (the torque on either bead is minus its radius times it, n from j to i),
-// and i's tangential displacement. Bead j takes the opposite force and displacement.
-// One row of F, n x F and xi per entry, so the gather reads one contiguous record.
+// The state of the contacts between steps, kept where the kernels use it: at each listed
+// bead pair (i, j), i < j (src/core/half_pairs.hpp), and at each bead-wall pair. Per
+// pair: whether the two touch now, i's tangential displacement xi (0 when they do not
+// touch; j's is the opposite), and, for bead j to gather, the force on i and the moment
+// n x F (the torque on either bead is minus its radius times it, n from j to i). The
+// pair kernel reads and rewrites xi in place, so no search by partner is made in a step;
+// the id-keyed ContactHistory is the form kept across list builds, reorders and
+// checkpoints.
 #include "solvers/dem/rotation.hpp"
 
 #include <string>
@@ -14,32 +17,39 @@ template <int D, class Space>
 struct PairContacts {
   using memory_space = typename Space::memory_space;
   static constexpr int R = rot_dim<D>;
-  static constexpr int force = 0, moment = D, xi = D + R, width = 2 * D + R;  // columns
+  static constexpr int force = 0, moment = D, width = D + R;  // columns of `record`
 
   Kokkos::View<Real* [width], memory_space> record;
+  Kokkos::View<Real* [D], memory_space> xi;
   Kokkos::View<char*, memory_space> touching;
+  // walls: [bead][wall]
+  Kokkos::View<Real** [D], memory_space> wall_xi;
+  Kokkos::View<char**, memory_space> wall_touching;
 
-  // Room for `entries` list entries (kept when there is enough).
+  PairContacts() = default;
+  PairContacts(int beads, int walls)
+      : wall_xi("dvisph::dem::wall_xi", beads, walls), wall_touching("dvisph::dem::wall_touching", beads, walls) {}
+
+  // Room for `entries` pairs (kept when there is enough; the contents are refilled).
   void reserve(int entries) {
     if (static_cast<int>(touching.extent(0)) >= entries) return;
     const int size = entries + entries / 8;
-    record = decltype(record)(Kokkos::view_alloc(Kokkos::WithoutInitializing, "dvisph::dem::pair_record"), size);
-    touching = decltype(touching)(Kokkos::view_alloc(Kokkos::WithoutInitializing, "dvisph::dem::pair_touching"), size);
+    const auto none = Kokkos::view_alloc(Kokkos::WithoutInitializing, std::string("dvisph::dem::pairs"));
+    record = decltype(record)(none, size);
+    xi = decltype(xi)(none, size);
+    touching = decltype(touching)(none, size);
   }
 
-  KOKKOS_INLINE_FUNCTION void set(int a, const Vec<D>& f, const Rot<D>& m, const Vec<D>& x) const {
-    for (int k = 0; k < D; ++k) record(a, force + k) = f[k];
-    for (int c = 0; c < R; ++c) record(a, moment + c) = m[c];
-    for (int k = 0; k < D; ++k) record(a, xi + k) = x[k];
-    touching(a) = 1;
-  }
-  template <int N>
-  KOKKOS_INLINE_FUNCTION Vec<N> get(int a, int first) const {
+  template <int N, class View>
+  KOKKOS_INLINE_FUNCTION static Vec<N> get(const View& v, int a, int first = 0) {
     Vec<N> r;
-    for (int k = 0; k < N; ++k) r[k] = record(a, first + k);
+    for (int k = 0; k < N; ++k) r[k] = v(a, first + k);
     return r;
   }
-  std::size_t bytes() const { return record.span() * sizeof(Real) + touching.span(); }
+  std::size_t bytes() const {
+    return record.span() * sizeof(Real) + xi.span() * sizeof(Real) + touching.span() +
+           wall_xi.span() * sizeof(Real) + wall_touching.span();
+  }
 };
 
 }  // namespace dvisph::dem
