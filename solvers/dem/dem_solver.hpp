@@ -131,8 +131,8 @@ class DemSolver {
   }
   // Seconds spent in each stage of the steps so far (each fenced), in step order.
   static constexpr const char* stage_names[] = {"kick_drift", "contact_list", "pair_contacts",
-                                                "gather_contacts", "kick"};
-  const std::array<double, 5>& stage_seconds() const { return stage_seconds_; }
+                                                "gather_and_kick"};
+  const std::array<double, 4>& stage_seconds() const { return stage_seconds_; }
 
   void set_wall_active(int w, bool active) {
     walls_.at(w).active = active;
@@ -274,8 +274,9 @@ class DemSolver {
 
   // v += dt/2 a, x += dt v; and the predicted velocity over the next drift, v + dt a,
   // that the contact law needs to place each contact's start and end in the step, all
-  // written to the contact kinematics too. dt = 0 packs the state as it is.
-  void kick_drift(Real dt) {
+  // written to the contact kinematics too. dt = 0 packs the state as it is. Returns
+  // whether some bead has now moved more than half the list skin since the list was built.
+  bool kick_drift(Real dt) {
     const auto x = spheres_.x, v = spheres_.v;
     const auto om = spheres_.omega;  // rotational: [rdim] columns
     const auto f = spheres_.force, fext = spheres_.f_ext;
@@ -288,8 +289,11 @@ class DemSolver {
     const Periodic<D> periodic = cells_.grid().periodic;
     const bool rotation = options_.rotation;
     const Real max_move2 = 0.25 * skin_ * skin_;
-    Kokkos::parallel_for(
-        "dvisph::dem::kick_drift", Kokkos::RangePolicy<Space>(0, spheres_.n), KOKKOS_LAMBDA(int i) {
+    const auto x0 = x_listed_;
+    Real moved2 = 0;
+    Kokkos::parallel_reduce(
+        "dvisph::dem::kick_drift", Kokkos::RangePolicy<Space>(0, spheres_.n),
+        KOKKOS_LAMBDA(int i, Real& most) {
           Real move2 = 0;
           bool outside = false;
           for (int k = 0; k < D; ++k) {
@@ -311,23 +315,14 @@ class DemSolver {
           kin(i, K::r0) = rad(i);
           if (outside) Kokkos::atomic_fetch_max(&status(outside_bead), i + 1);
           if (move2 > max_move2) Kokkos::atomic_fetch_max(&status(fast_bead), i + 1);
-        });
-  }
-
-  void kick(Real dt) {
-    const auto v = spheres_.v;
-    const auto om = spheres_.omega;  // rotational: [rdim] columns
-    const auto f = spheres_.force, fext = spheres_.f_ext;
-    const auto t = spheres_.torque;  // rotational: [rdim] columns
-    const auto m = spheres_.mass, I = spheres_.inertia;
-    const Vec<D> g = gravity_;
-    const bool rotation = options_.rotation;
-    Kokkos::parallel_for(
-        "dvisph::dem::kick", Kokkos::RangePolicy<Space>(0, spheres_.n), KOKKOS_LAMBDA(int i) {
-          for (int k = 0; k < D; ++k) v(i, k) += 0.5 * dt * ((f(i, k) + fext(i, k)) / m(i) + g[k]);
-          if (rotation)
-            for (int c = 0; c < R; ++c) om(i, c) += 0.5 * dt * t(i, c) / I(i);
-        });
+          Vec<D> moved;
+          for (int k = 0; k < D; ++k) moved[k] = x(i, k) - x0(i, k);
+          periodic.nearest_image(moved);
+          const Real d2 = dot(moved, moved);
+          if (d2 > most) most = d2;
+        },
+        Kokkos::Max<Real>(moved2));
+    return 4 * moved2 > list_skin_ * list_skin_;
   }
 
   // Contact force and torque on each bead at the current positions, with the half-step
@@ -338,7 +333,7 @@ class DemSolver {
   // opposite); then every bead gathers those and adds its walls.
   void contact_forces(Real dt) {
     pair_contacts(dt);
-    gather_contacts(dt);
+    gather_contacts(dt, false);
   }
 
   void pair_contacts(Real dt) {
@@ -401,7 +396,8 @@ class DemSolver {
         });
   }
 
-  void gather_contacts(Real dt) {
+  // kick: then v += dt/2 a with the forces just summed (the closing half kick, fused)
+  void gather_contacts(Real dt, bool kick) {
     const auto kin = kinematics_;
     const auto m = spheres_.mass;
     const auto f = spheres_.force;
@@ -413,6 +409,11 @@ class DemSolver {
     const auto pairs = pairs_;
     const auto status = status_;
     const int capacity = history_.capacity();
+    const auto v = spheres_.v, fext = spheres_.f_ext;
+    const auto om = spheres_.omega;  // rotational: [rdim] columns
+    const auto I = spheres_.inertia;
+    const Vec<D> g = gravity_;
+    const bool rotation = options_.rotation;
     const Real max_overlap = options_.max_overlap, skin = skin_;
     using P = PairContacts<D, Space>;
     Kokkos::parallel_for(
@@ -460,6 +461,11 @@ class DemSolver {
           }
           for (int k = 0; k < D; ++k) f(i, k) = fi[k];
           for (int c = 0; c < R; ++c) t(i, c) = ti[c];
+          if (kick) {
+            for (int k = 0; k < D; ++k) v(i, k) += 0.5 * dt * ((fi[k] + fext(i, k)) / m(i) + g[k]);
+            if (rotation)
+              for (int c = 0; c < R; ++c) om(i, c) += 0.5 * dt * ti[c] / I(i);
+          }
           if (count > capacity) Kokkos::atomic_fetch_max(&status(crowded_bead), i + 1);
         });
   }
@@ -513,24 +519,6 @@ class DemSolver {
         });
   }
 
-  // Whether some bead has moved more than half the list skin since the list was built.
-  bool list_due() const {
-    const auto x = spheres_.x, x0 = x_listed_;
-    const Periodic<D> periodic = cells_.grid().periodic;
-    Real moved2 = 0;
-    Kokkos::parallel_reduce(
-        "dvisph::dem::list_due", Kokkos::RangePolicy<Space>(0, spheres_.n),
-        KOKKOS_LAMBDA(int i, Real& m) {
-          Vec<D> moved;
-          for (int k = 0; k < D; ++k) moved[k] = x(i, k) - x0(i, k);
-          periodic.nearest_image(moved);
-          const Real d2 = dot(moved, moved);
-          if (d2 > m) m = d2;
-        },
-        Kokkos::Max<Real>(moved2));
-    return 4 * moved2 > list_skin_ * list_skin_;
-  }
-
  private:
   void build_list() {
     cells_.build(spheres_.x, spheres_.n);
@@ -551,22 +539,25 @@ class DemSolver {
       }
     if (changed) upload_walls();
     if (!forces_ready_) {
-      // forces at the start, from the velocities now; the history is not advanced
+      // forces at the start, from the velocities now; the history is not advanced (the
+      // pairs take it back from the table)
+      store_history();
       kick_drift(0);
       contact_forces(dt);
+      load_history();
       forces_ready_ = true;
     }
-    timed(0, [&] { kick_drift(dt); });
+    bool list_due = false;
+    timed(0, [&] { list_due = kick_drift(dt); });
     timed(1, [&] {
-      if (list_due()) {
+      if (list_due) {
         store_history();
         build_list();
         load_history();
       }
     });
     timed(2, [&] { pair_contacts(dt); });
-    timed(3, [&] { gather_contacts(dt); });
-    timed(4, [&] { kick(dt); });
+    timed(3, [&] { gather_contacts(dt, true); });
     time_ += dt;
   }
 
@@ -637,7 +628,7 @@ class DemSolver {
   Kokkos::View<int[flags], memory_space> status_;
   Real skin_ = 0, search_radius_ = 0, list_skin_ = 0, dt_ = 0, time_ = 0;
   long list_builds_ = 0;
-  std::array<double, 5> stage_seconds_ = {};
+  std::array<double, 4> stage_seconds_ = {};
   bool forces_ready_ = false;
 };
 
