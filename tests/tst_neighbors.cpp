@@ -1,7 +1,8 @@
 // Neighbour search: the cell sweep and the stored list find exactly the brute-force
 // pair set, in 2D and 3D, in a non-cubic box, with particles on cell faces, for a
 // query set with a radius other than the cell size, and across periodic faces (pairs at
-// their nearest image).
+// their nearest image). The half split of the stored list holds each pair once.
+#include "src/core/half_pairs.hpp"
 #include "src/core/neighbor_list.hpp"
 #include "tests/test_space.hpp"
 
@@ -86,6 +87,38 @@ std::set<std::pair<int, int>> swept_pairs(const Sweep& sweep, const XView& xq, i
   return pairs;
 }
 
+// Every pair (i, j), i != j, of `expected` exactly once in an upper row (j > i), and
+// each lower entry of j naming the upper entry that holds (i, j).
+template <class List, class Pairs>
+void check_half_pairs(const List& list, int n, const Pairs& expected) {
+  HalfPairs<TestSpace> half;
+  half.build(list.sweep(), n);
+  const auto rows = half.rows();
+  const auto h = [](const auto& v) { return Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), v); };
+  const auto uo = h(rows.upper_offsets), up = h(rows.upper), lo = h(rows.lower_offsets), low = h(rows.lower),
+             entry = h(rows.lower_entry);
+  std::set<std::pair<int, int>> once;
+  int wrong = 0;
+  for (int i = 0; i < n; ++i)
+    for (int a = uo(i); a < uo(i + 1); ++a) {
+      wrong += !(up(a) > i) || !expected.count({i, up(a)}) || !once.insert({i, up(a)}).second;
+    }
+  int mismatched = 0;
+  long lower = 0;
+  for (int j = 0; j < n; ++j)
+    for (int b = lo(j); b < lo(j + 1); ++b, ++lower) {
+      const int i = low(b), e = entry(b);
+      mismatched += !(i < j && e >= uo(i) && e < uo(i + 1) && up(e) == j);
+    }
+  long distinct = 0;
+  for (const auto& pr : expected) distinct += pr.first != pr.second;
+  CHECK(wrong == 0);
+  CHECK(mismatched == 0);
+  CHECK(2 * static_cast<long>(once.size()) == distinct);
+  CHECK(lower == static_cast<long>(once.size()));
+  CHECK(half.pairs() == static_cast<int>(once.size()));
+}
+
 template <int D>
 void check_search(Real query_radius_factor, unsigned periodic = 0) {
   const Real cell = 0.1;
@@ -121,6 +154,7 @@ void check_search(Real query_radius_factor, unsigned periodic = 0) {
   list.build(sweep, xt, n);
   CHECK(list.pairs() == static_cast<long>(expected_self.size()));
   CHECK(swept_pairs<D>(list.sweep(), xt, n) == expected_self);
+  check_half_pairs(list, n, expected_self);
 }
 
 }  // namespace
