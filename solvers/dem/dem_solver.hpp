@@ -387,8 +387,10 @@ class DemSolver {
             }
             if (touches != touched) {
               pairs.touching(a) = touches;
-              if (!touches)  // a contact that ends leaves no history
+              if (!touches) {  // a contact that ends leaves no history and no force
                 for (int k = 0; k < D; ++k) pairs.xi(a, k) = 0;
+                for (int q = 0; q < P::width; ++q) pairs.record(a, q) = 0;
+              }
             }
           }
           for (int k = 0; k < D; ++k) f(i, k) = fi[k];
@@ -425,11 +427,11 @@ class DemSolver {
           for (int a = list.upper_offsets(i); a < list.upper_offsets(i + 1); ++a) count += pairs.touching(a);
           // the pairs that partners j < i evaluated: this side is the opposite
           for (int b = list.lower_offsets(i); b < list.lower_offsets(i + 1); ++b) {
+            // (a pair that does not touch holds zeros: adding them changes no bit)
             const int e = list.lower_entry(b);
-            if (!pairs.touching(e)) continue;
             fi += (-1.0) * P::template get<D>(pairs.record, e, P::force);
             ti += (-ri) * P::template get<R>(pairs.record, e, P::moment);
-            ++count;
+            count += pairs.touching(e);
           }
           const Vec<D> xi = kin.x(i), vi = kin.v(i), vai = kin.v_ahead(i);
           const Rot<D> wi = kin.omega(i), wai = kin.omega_ahead(i);
@@ -510,6 +512,7 @@ class DemSolver {
             const int s = table.find(i, id(list.upper(a)));
             pairs.touching(a) = s >= 0;
             for (int k = 0; k < D; ++k) pairs.xi(a, k) = s >= 0 ? table.xi(i, s, k) : 0;
+            for (int q = 0; q < PairContacts<D, Space>::width; ++q) pairs.record(a, q) = 0;
           }
           for (int w = 0; w < nw; ++w) {
             const int s = table.find(i, -(w + 1));
