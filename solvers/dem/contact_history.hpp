@@ -36,11 +36,6 @@ class ContactHistory {
         if (partner(i, s) == p) return s;
       return -1;
     }
-    KOKKOS_INLINE_FUNCTION Vec<D> slot(int i, int s) const {
-      Vec<D> r;
-      for (int k = 0; k < D; ++k) r[k] = xi(i, s, k);
-      return r;
-    }
   };
 
   // Fills one particle's row.

@@ -46,10 +46,6 @@ struct PairContacts {
     for (int k = 0; k < N; ++k) r[k] = v(a, first + k);
     return r;
   }
-  std::size_t bytes() const {
-    return record.span() * sizeof(Real) + xi.span() * sizeof(Real) + touching.span() +
-           wall_xi.span() * sizeof(Real) + wall_touching.span();
-  }
 };
 
 }  // namespace dvisph::dem

@@ -82,7 +82,6 @@ class HalfPairs {
 
   Rows rows() const { return {upper_offsets_, upper_, lower_offsets_, lower_, lower_entry_}; }
   int pairs() const { return pairs_; }  // upper entries: each pair once
-  std::size_t bytes() const { return view_bytes(upper_offsets_, upper_, lower_offsets_, lower_, lower_entry_); }
 
  private:
   Ints upper_offsets_, upper_, lower_offsets_, lower_, lower_entry_;
