@@ -157,13 +157,13 @@ class DemSolver {
   // Bead perm(a) becomes bead a, every per-bead field in place (views stay valid).
   template <class Perm>
   void permute(const Perm& perm) {
+    store_history();  // by the ids of the current order
     spheres_.for_each_field([&](const char*, auto& field) {
       using V = std::decay_t<decltype(field)>;
       const V tmp(Kokkos::view_alloc(Kokkos::WithoutInitializing, field.label()), field.layout());
       gather_rows<Space>(tmp, field, perm);
       Kokkos::deep_copy(field, tmp);
     });
-    store_history();
     history_.permute(perm);
     build_list();
     load_history();
