@@ -326,6 +326,20 @@ TEST_CASE("a gate stops beads until it is removed", "[dem]") {
   CHECK(run(1.0) == Approx(-0.9).epsilon(0.01));  // stays: the bead bounces
 }
 
+TEST_CASE("a gate removed mid-contact leaves no contact behind", "[dem]") {
+  const Real r = 0.5 * bead_d;
+  Spheres<2, TestSpace> s({vec<2>(-r + 1e-6, 0)}, r, bead_rho);  // pressed on the gate
+  set_row(s.v, 0, {0.1, 0.05});
+  DemSolver<2, TestSpace> dem(s, {PlaneWall<2>(Vec<2>::zero(), vec<2>(-1, 0), 1e-4)},
+                              LinearSpringDashpot<2>(bead_kn, 0.9, 0.2), filled<2>(-0.02),
+                              filled<2>(0.02), Vec<2>::zero());
+  dem.step(dem.time_step());
+  REQUIRE(dem.contacts_per_bead() == 1);
+  dem.advance(1e-3);
+  CHECK(dem.contacts_per_bead() == 0);
+  CHECK(dem.energy().spring == 0);
+}
+
 TEST_CASE("a full contact history is reported, not dropped", "[dem]") {
   const Real r = 0.5 * bead_d, c = 1.99 * r;
   Spheres<2, TestSpace> s({vec<2>(0, 0), vec<2>(c, 0), vec<2>(-c, 0), vec<2>(0, c)}, r, bead_rho);

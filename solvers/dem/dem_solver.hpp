@@ -440,16 +440,16 @@ class DemSolver {
           Vec<D> xi_old;
           for (int w = 0; w < nw; ++w) {
             const PlaneWall<D> wall = walls(w);
-            if (!wall.active) continue;
-            // walls beyond the search skin are skipped, as listed pairs are
-            const Real gap = wall.distance(xi) - ri;
             const bool touched = pairs.wall_touching(i, w);
-            if (touched) {  // until it is found touching again below
+            if (touched) {  // until it is found touching again below (a removed gate: never)
               pairs.wall_touching(i, w) = 0;
               for (int k = 0; k < D; ++k) xi_old[k] = pairs.wall_xi(i, w, k), pairs.wall_xi(i, w, k) = 0;
             } else {
               xi_old = Vec<D>::zero();
             }
+            if (!wall.active) continue;
+            // walls beyond the search skin are skipped, as listed pairs are
+            const Real gap = wall.distance(xi) - ri;
             if (gap > skin) continue;
             const Vec<D>& nrm = wall.normal;
             const Overlaps d = Overlaps::along(-gap, dot(vi, nrm), dot(vai, nrm), dt);
