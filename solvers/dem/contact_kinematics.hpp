@@ -21,17 +21,11 @@ struct ContactKinematics {
   explicit ContactKinematics(int n)
       : row(Kokkos::view_alloc(Kokkos::WithoutInitializing, "dvisph::dem::contact_kinematics"), n) {}
 
-  template <int N>
-  KOKKOS_INLINE_FUNCTION Vec<N> get(int i, int first) const {
-    Vec<N> r;
-    for (int k = 0; k < N; ++k) r[k] = row(i, first + k);
-    return r;
-  }
-  KOKKOS_INLINE_FUNCTION Vec<D> x(int i) const { return get<D>(i, x0); }
-  KOKKOS_INLINE_FUNCTION Vec<D> v(int i) const { return get<D>(i, v0); }
-  KOKKOS_INLINE_FUNCTION Vec<D> v_ahead(int i) const { return get<D>(i, va0); }
-  KOKKOS_INLINE_FUNCTION Rot<D> omega(int i) const { return get<R>(i, w0); }
-  KOKKOS_INLINE_FUNCTION Rot<D> omega_ahead(int i) const { return get<R>(i, wa0); }
+  KOKKOS_INLINE_FUNCTION Vec<D> x(int i) const { return columns<D>(row, i, x0); }
+  KOKKOS_INLINE_FUNCTION Vec<D> v(int i) const { return columns<D>(row, i, v0); }
+  KOKKOS_INLINE_FUNCTION Vec<D> v_ahead(int i) const { return columns<D>(row, i, va0); }
+  KOKKOS_INLINE_FUNCTION Rot<D> omega(int i) const { return columns<R>(row, i, w0); }
+  KOKKOS_INLINE_FUNCTION Rot<D> omega_ahead(int i) const { return columns<R>(row, i, wa0); }
   KOKKOS_INLINE_FUNCTION Real radius(int i) const { return row(i, r0); }
 };
 

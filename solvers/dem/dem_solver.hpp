@@ -258,14 +258,9 @@ class DemSolver {
           });
           for (int w = 0; w < nw; ++w)
             if (walls(w).active) s += law.energy(rad(i) - walls(w).distance(xi), zero);
-          using P = PairContacts<D, Space>;
           for (int a = list.upper_offsets(i); a < list.upper_offsets(i + 1); ++a)
-            s += law.energy(0, P::template get<D>(pairs.xi, a));
-          for (int w = 0; w < nw; ++w) {
-            Vec<D> xw;
-            for (int k = 0; k < D; ++k) xw[k] = pairs.wall_xi(i, w, k);
-            s += law.energy(0, xw);
-          }
+            s += law.energy(0, row<D>(pairs.xi, a));
+          for (int w = 0; w < nw; ++w) s += law.energy(0, pairs.wall(i, w));
         },
         e.spring);
     return e;
@@ -341,7 +336,6 @@ class DemSolver {
   void pair_contacts(Real dt) {
     const auto kin = kinematics_;
     const auto m = spheres_.mass;
-    const auto id = spheres_.id;
     const auto f = spheres_.force;
     const auto t = spheres_.torque;  // rotational: [rdim] columns
     const Law law = law_;
@@ -378,13 +372,13 @@ class DemSolver {
                 const Rot<D> spin = ri * wi + rj * kin.omega(j), spina = ri * wai + rj * kin.omega_ahead(j);
                 const Contact<D> c{d, nrm, dv - cross(spin, nrm), dva - cross(spina, nrm), mi * m(j) / (mi + m(j))};
                 const ContactResponse<D> res =
-                    law(c, touched ? P::template get<D>(pairs.xi, a) : Vec<D>::zero(), dt);
+                    law(c, touched ? row<D>(pairs.xi, a) : Vec<D>::zero(), dt);
                 const Rot<D> moment = cross(nrm, res.force);
                 fi += res.force;
                 ti += (-ri) * moment;
-                for (int k = 0; k < D; ++k) pairs.record(a, P::force + k) = res.force[k];
-                for (int q = 0; q < R; ++q) pairs.record(a, P::moment + q) = moment[q];
-                for (int k = 0; k < D; ++k) pairs.xi(a, k) = res.xi[k];
+                set_columns<D>(pairs.record, a, P::force, res.force);
+                set_columns<R>(pairs.record, a, P::moment, moment);
+                set_columns<D>(pairs.xi, a, 0, res.xi);
               }
             }
             if (touches != touched) {
@@ -431,21 +425,19 @@ class DemSolver {
           for (int b = list.lower_offsets(i); b < list.lower_offsets(i + 1); ++b) {
             // (a pair that does not touch holds zeros: adding them changes no bit)
             const int e = list.lower_entry(b);
-            fi += (-1.0) * P::template get<D>(pairs.record, e, P::force);
-            ti += (-ri) * P::template get<R>(pairs.record, e, P::moment);
+            fi += (-1.0) * columns<D>(pairs.record, e, P::force);
+            ti += (-ri) * columns<R>(pairs.record, e, P::moment);
             count += pairs.touching(e);
           }
           const Vec<D> xi = kin.x(i), vi = kin.v(i), vai = kin.v_ahead(i);
           const Rot<D> wi = kin.omega(i), wai = kin.omega_ahead(i);
-          Vec<D> xi_old;
           for (int w = 0; w < nw; ++w) {
             const PlaneWall<D> wall = walls(w);
             const bool touched = pairs.wall_touching(i, w);
+            const Vec<D> xi_old = touched ? pairs.wall(i, w) : Vec<D>::zero();
             if (touched) {  // until it is found touching again below (a removed gate: never)
               pairs.wall_touching(i, w) = 0;
-              for (int k = 0; k < D; ++k) xi_old[k] = pairs.wall_xi(i, w, k), pairs.wall_xi(i, w, k) = 0;
-            } else {
-              xi_old = Vec<D>::zero();
+              pairs.set_wall(i, w, Vec<D>::zero());
             }
             if (!wall.active) continue;
             // walls beyond the search skin are skipped, as listed pairs are
@@ -459,7 +451,7 @@ class DemSolver {
             const ContactResponse<D> res = law(c, xi_old, dt);
             fi += res.force;
             ti += (-ri) * cross(nrm, res.force);
-            for (int k = 0; k < D; ++k) pairs.wall_xi(i, w, k) = res.xi[k];
+            pairs.set_wall(i, w, res.xi);
             pairs.wall_touching(i, w) = 1;
             ++count;
           }
@@ -482,22 +474,17 @@ class DemSolver {
     const auto pairs = pairs_;
     const auto out = history_.writer();
     const int nw = static_cast<int>(walls_.size());
-    using P = PairContacts<D, Space>;
     Kokkos::parallel_for(
         "dvisph::dem::store_history", Kokkos::RangePolicy<Space>(0, spheres_.n), KOKKOS_LAMBDA(int i) {
           int count = 0;
           for (int a = list.upper_offsets(i); a < list.upper_offsets(i + 1); ++a)
-            if (pairs.touching(a)) out.add(i, count, id(list.upper(a)), P::template get<D>(pairs.xi, a));
+            if (pairs.touching(a)) out.add(i, count, id(list.upper(a)), row<D>(pairs.xi, a));
           for (int b = list.lower_offsets(i); b < list.lower_offsets(i + 1); ++b) {
             const int e = list.lower_entry(b);
-            if (pairs.touching(e)) out.add(i, count, id(list.lower(b)), (-1.0) * P::template get<D>(pairs.xi, e));
+            if (pairs.touching(e)) out.add(i, count, id(list.lower(b)), (-1.0) * row<D>(pairs.xi, e));
           }
           for (int w = 0; w < nw; ++w)
-            if (pairs.wall_touching(i, w)) {
-              Vec<D> xw;
-              for (int k = 0; k < D; ++k) xw[k] = pairs.wall_xi(i, w, k);
-              out.add(i, count, -(w + 1), xw);
-            }
+            if (pairs.wall_touching(i, w)) out.add(i, count, -(w + 1), pairs.wall(i, w));
           out.close(i, count);
         });
   }
@@ -519,7 +506,7 @@ class DemSolver {
           for (int w = 0; w < nw; ++w) {
             const int s = table.find(i, -(w + 1));
             pairs.wall_touching(i, w) = s >= 0;
-            for (int k = 0; k < D; ++k) pairs.wall_xi(i, w, k) = s >= 0 ? table.xi(i, s, k) : 0;
+            for (int k = 0; k < D; ++k) pairs.wall_xi(i, w * D + k) = s >= 0 ? table.xi(i, s, k) : 0;
           }
         });
   }

@@ -22,13 +22,14 @@ struct PairContacts {
   Kokkos::View<Real* [width], memory_space> record;
   Kokkos::View<Real* [D], memory_space> xi;
   Kokkos::View<char*, memory_space> touching;
-  // walls: [bead][wall]
-  Kokkos::View<Real** [D], memory_space> wall_xi;
+  // walls: bead i, wall w; wall_xi holds wall w's displacement in columns w D .. w D + D - 1
+  Kokkos::View<Real**, memory_space> wall_xi;
   Kokkos::View<char**, memory_space> wall_touching;
 
   PairContacts() = default;
   PairContacts(int beads, int walls)
-      : wall_xi("dvisph::dem::wall_xi", beads, walls), wall_touching("dvisph::dem::wall_touching", beads, walls) {}
+      : wall_xi("dvisph::dem::wall_xi", beads, walls * D),
+        wall_touching("dvisph::dem::wall_touching", beads, walls) {}
 
   // Room for `entries` pairs (kept when there is enough; the contents are refilled).
   void reserve(int entries) {
@@ -40,12 +41,8 @@ struct PairContacts {
     touching = decltype(touching)(none, size);
   }
 
-  template <int N, class View>
-  KOKKOS_INLINE_FUNCTION static Vec<N> get(const View& v, int a, int first = 0) {
-    Vec<N> r;
-    for (int k = 0; k < N; ++k) r[k] = v(a, first + k);
-    return r;
-  }
+  KOKKOS_INLINE_FUNCTION Vec<D> wall(int i, int w) const { return columns<D>(wall_xi, i, w * D); }
+  KOKKOS_INLINE_FUNCTION void set_wall(int i, int w, const Vec<D>& x) const { set_columns<D>(wall_xi, i, w * D, x); }
 };
 
 }  // namespace dvisph::dem

@@ -71,11 +71,11 @@ class HalfPairs {
     reserve_entries(upper_, up, "dvisph::half_pairs::upper");
     reserve_entries(lower_, lo, "dvisph::half_pairs::lower");
     reserve_entries(lower_entry_, lo, "dvisph::half_pairs::lower_entry");
-    const Kokkos::View<int, memory_space> unmatched("dvisph::half_pairs::unmatched");
+    Kokkos::deep_copy(unmatched_, 0);
     Kokkos::parallel_for("dvisph::half_pairs::fill", Kokkos::RangePolicy<Space>(0, n),
-                         Fill<List>{list, upper_offsets_, upper_, lower_offsets_, lower_, lower_entry_, unmatched});
+                         Fill<List>{list, upper_offsets_, upper_, lower_offsets_, lower_, lower_entry_, unmatched_});
     int missing = 0;
-    Kokkos::deep_copy(missing, unmatched);
+    Kokkos::deep_copy(missing, unmatched_);
     if (missing != 0) throw std::logic_error("HalfPairs: the neighbour list is not symmetric");
     pairs_ = up;
   }
@@ -85,6 +85,7 @@ class HalfPairs {
 
  private:
   Ints upper_offsets_, upper_, lower_offsets_, lower_, lower_entry_;
+  Kokkos::View<int, memory_space> unmatched_{"dvisph::half_pairs::unmatched"};  // once, not per build
   int pairs_ = 0;
 };
 

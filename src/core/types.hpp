@@ -72,12 +72,23 @@ KOKKOS_INLINE_FUNCTION Real dot(const Vec<D>& a, const Vec<D>& b) {
   return s;
 }
 
+// Columns first .. first + N - 1 of row i of a 2D view as a Vec (e.g. one field of a
+// record packed in a row), and back.
+template <int N, class View>
+KOKKOS_INLINE_FUNCTION Vec<N> columns(const View& v, int i, int first) {
+  Vec<N> r;
+  for (int k = 0; k < N; ++k) r[k] = v(i, first + k);
+  return r;
+}
+template <int N, class View>
+KOKKOS_INLINE_FUNCTION void set_columns(const View& v, int i, int first, const Vec<N>& x) {
+  for (int k = 0; k < N; ++k) v(i, first + k) = x[k];
+}
+
 // Row i of an (n x D) view as a Vec.
 template <int D, class View>
 KOKKOS_INLINE_FUNCTION Vec<D> row(const View& v, int i) {
-  Vec<D> r;
-  for (int k = 0; k < D; ++k) r[k] = v(i, k);
-  return r;
+  return columns<D>(v, i, 0);
 }
 
 // Bytes allocated by the given views (their spans), for memory accounting.
