@@ -3,7 +3,10 @@
 // same symmetric positive definite matrix. The operator is applied matrix-free to
 // all columns at once, so the columns share every neighbour traversal; one
 // right-hand side is the special case K = 1. Each column has its own CG scalars
-// and stops on its own relative residual.
+// and stops on its own residual: relative to |b| (`tolerance`), or absolute as the
+// largest |r_i| of a row (`max_tolerance`), whichever comes first.
+// The absolute test lets a caller stop at a residual that means something physical
+// (the PPE: the density change per step it leaves, IsphSolver::solve_pressure).
 #include "src/core/types.hpp"
 
 #include <cmath>
@@ -30,11 +33,31 @@ struct Sums {
   }
 };
 using ColumnSums = Sums<max_rhs>;
-using TwoColumnSums = Sums<2 * max_rhs>;  // two sums per column
+
+// N sums and M maxima of non-negative values in one reduction.
+template <int N, int M>
+struct SumsAndMax {
+  Real v[N], m[M];
+  KOKKOS_INLINE_FUNCTION SumsAndMax() {
+    for (int k = 0; k < N; ++k) v[k] = 0;
+    for (int k = 0; k < M; ++k) m[k] = 0;
+  }
+  KOKKOS_INLINE_FUNCTION SumsAndMax& operator+=(const SumsAndMax& o) {
+    for (int k = 0; k < N; ++k) v[k] += o.v[k];
+    for (int k = 0; k < M; ++k) m[k] = m[k] < o.m[k] ? o.m[k] : m[k];
+    return *this;
+  }
+  KOKKOS_INLINE_FUNCTION void operator+=(const volatile SumsAndMax& o) volatile {
+    for (int k = 0; k < N; ++k) v[k] += o.v[k];
+    for (int k = 0; k < M; ++k) m[k] = m[k] < o.m[k] ? o.m[k] : m[k];
+  }
+};
+using UpdateSums = SumsAndMax<2 * max_rhs, max_rhs>;  // r.z, r.r, then max |r_i| per column
 
 struct CgResult {
   int iterations = 0;
-  Real residual[max_rhs] = {};  // final relative residuals
+  Real residual[max_rhs] = {};      // final relative residuals
+  Real max_residual[max_rhs] = {};  // final max |r_i|
   bool converged = false;
 };
 
@@ -55,22 +78,24 @@ class ConjugateGradient {
 
   // Solves A x = b for every column of b (n x K, K <= max_rhs); x holds the initial
   // guess. `A.apply(p, q, diag, n)` computes q = A p; rows whose diag is zero are
-  // inactive (their x, b stay zero). Returns iterations and the relative residuals.
+  // inactive (their x, b stay zero). A column stops when its residual relative to |b|
+  // is below `tolerance` or its largest |r_i| below `max_tolerance` (0: that test is
+  // off). Returns iterations and the final residuals.
   // (An operator object, not a closure: nvcc's device lambdas may not sit in a
   // function templated on a function-local type.)
   template <class Operator>
   CgResult solve(const Operator& A, const Diagonal& diag, const Vectors& b, const Vectors& x,
-                 int n, Real tolerance, int max_iterations) {
+                 int n, Real tolerance, int max_iterations, Real max_tolerance = 0) {
     const int K = static_cast<int>(b.extent(1));
     resize(static_cast<int>(b.extent(0)), K);
     auto r = r_, z = z_, p = p_, q = q_;
     const auto range = Kokkos::RangePolicy<Space>(0, n);
 
     A.apply(x, q, diag, n);
-    Sums<3 * max_rhs> init;  // r.z, b.b, r.r
+    SumsAndMax<3 * max_rhs, max_rhs> init;  // r.z, b.b, r.r; max |r_i|
     Kokkos::parallel_reduce(
         "dvisph::pcg::init", range,
-        KOKKOS_LAMBDA(int i, Sums<3 * max_rhs>& s) {
+        KOKKOS_LAMBDA(int i, SumsAndMax<3 * max_rhs, max_rhs>& s) {
           const Real inv_d = diag(i) > 0 ? 1 / diag(i) : 0;
           for (int k = 0; k < K; ++k) {
             r(i, k) = diag(i) > 0 ? b(i, k) - q(i, k) : 0;
@@ -79,6 +104,7 @@ class ConjugateGradient {
             s.v[k] += r(i, k) * z(i, k);
             s.v[max_rhs + k] += b(i, k) * b(i, k);
             s.v[2 * max_rhs + k] += r(i, k) * r(i, k);
+            s.m[k] = math::max(s.m[k], math::abs(r(i, k)));
           }
         },
         init);
@@ -87,14 +113,15 @@ class ConjugateGradient {
       rz.v[k] = init.v[k], bb.v[k] = init.v[max_rhs + k], rr.v[k] = init.v[2 * max_rhs + k];
 
     CgResult result;
-    Real norm_b[max_rhs], res[max_rhs];
+    Real norm_b[max_rhs], res[max_rhs], worst[max_rhs];
+    for (int k = 0; k < K; ++k) worst[k] = init.m[k];
     bool active[max_rhs];
     auto all_done = [&]() {
       bool done = true;
       for (int k = 0; k < K; ++k) {
         norm_b[k] = std::sqrt(bb.v[k]);
         res[k] = norm_b[k] > 0 ? std::sqrt(rr.v[k]) / norm_b[k] : std::sqrt(rr.v[k]);
-        active[k] = res[k] > tolerance;
+        active[k] = res[k] > tolerance && !(worst[k] < max_tolerance);
         done = done && !active[k];
       }
       return done;
@@ -112,10 +139,10 @@ class ConjugateGradient {
           pq);
       ColumnSums alpha;
       for (int k = 0; k < K; ++k) alpha.v[k] = active[k] && pq.v[k] > 0 ? rz.v[k] / pq.v[k] : 0;
-      TwoColumnSums update;  // new r.z, then r.r
+      UpdateSums update;  // new r.z, then r.r, then max |r_i|
       Kokkos::parallel_reduce(
           "dvisph::pcg::update", range,
-          KOKKOS_LAMBDA(int i, TwoColumnSums& s) {
+          KOKKOS_LAMBDA(int i, UpdateSums& s) {
             const Real inv_d = diag(i) > 0 ? 1 / diag(i) : 0;
             for (int k = 0; k < K; ++k) {
               x(i, k) += alpha.v[k] * p(i, k);
@@ -123,11 +150,13 @@ class ConjugateGradient {
               z(i, k) = inv_d * r(i, k);
               s.v[k] += r(i, k) * z(i, k);
               s.v[max_rhs + k] += r(i, k) * r(i, k);
+              s.m[k] = math::max(s.m[k], math::abs(r(i, k)));
             }
           },
           update);
       ColumnSums rz_new;
-      for (int k = 0; k < K; ++k) rz_new.v[k] = update.v[k], rr.v[k] = update.v[max_rhs + k];
+      for (int k = 0; k < K; ++k)
+        rz_new.v[k] = update.v[k], rr.v[k] = update.v[max_rhs + k], worst[k] = update.m[k];
       ColumnSums beta;
       for (int k = 0; k < K; ++k) beta.v[k] = rz.v[k] > 0 ? rz_new.v[k] / rz.v[k] : 0;
       rz = rz_new;
@@ -143,7 +172,7 @@ class ConjugateGradient {
     }
     result.iterations = it;
     result.converged = done;
-    for (int k = 0; k < K; ++k) result.residual[k] = res[k];
+    for (int k = 0; k < K; ++k) result.residual[k] = res[k], result.max_residual[k] = worst[k];
     return result;
   }
 

@@ -45,7 +45,7 @@ class FluidOutput {
         double(solver_.pairs()) * (info.cg_iterations + pair_sweeps_outside_cg(solver_.stages()));
   }
   std::string series_header() const {
-    return "cg_iterations,cg_residual,max_speed,front,max_density_error,density_error_p95";
+    return "cg_iterations,cg_residual,cg_density_residual,max_speed,front,max_density_error,density_error_p95";
   }
   std::string series_row() {
     const auto& p = solver_.particles();
@@ -77,8 +77,9 @@ class FluidOutput {
       front_.T.push_back((info.t - s_.metrics_origin()) * std::sqrt(2 * g_ / s_.column_width));
       front_.Z.push_back(front / s_.column_width);
     }
-    return fmt::format("{},{:.3g},{:.6g},{:.6g},{:.6g},{:.6g}", info.cg_iterations, info.cg_residual,
-                       info.max_speed, front, derr.max, derr.p95);
+    return fmt::format("{},{:.3g},{:.3g},{:.6g},{:.6g},{:.6g},{:.6g}", info.cg_iterations,
+                       info.cg_residual, info.cg_density_residual, info.max_speed, front, derr.max,
+                       derr.p95);
   }
 
   SnapshotPart snapshot() const {
@@ -175,10 +176,11 @@ class FluidOutput {
     const long steps = std::max(1L, solver_.info().step);
     return fmt::format(
         "  \"kernel\": \"{}\",\n"
-        "  \"pairs\": {},\n  \"pair_interactions_per_second\": {:.4g},\n  \"cg_iterations_mean\": {:.2f},\n"
+        "  \"pairs\": {},\n  \"neighbor_list_full_builds\": {},\n"
+        "  \"pair_interactions_per_second\": {:.4g},\n  \"cg_iterations_mean\": {:.2f},\n"
         "  \"cg_iterations_max\": {},\n  \"stage_seconds\": {{{}}},\n"
         "  \"memory_bytes\": {},\n  \"memory_bytes_per_particle\": {:.0f},\n",
-        Kernel::name, solver_.pairs(), pair_visits_ / std::max(step_seconds, 1e-30),
+        Kernel::name, solver_.pairs(), solver_.neighbor_list_full_builds(), pair_visits_ / std::max(step_seconds, 1e-30),
         double(cg_total_) / steps, cg_max_, stage_times, solver_.memory_bytes(),
         double(solver_.memory_bytes()) / std::max(1, solver_.size()));
   }

@@ -319,7 +319,7 @@ void check_periodic(const Scene& s) {
     throw SceneError(fmt::format("geometry.tank.periodic: axis {} wraps, but geometry.tank.open_top "
                                  "= true puts a free surface above it; set open_top: false",
                                  axes[last]));
-  // the largest search over each grid that wraps: the fluid's cells (2h, swept to 2h and,
+  // the largest search over each grid that wraps: the fluid's cells (2h / fluid_cells_per_radius, swept to 2h and,
   // for the beads' forces, to 2 h_c), the coupling's bead cells (2 h_c) and the DEM's
   const double h = s.h_over_dx * s.spacing;
   const double hc = s.coupling && s.coupling->smoothing_length > 0 ? s.coupling->smoothing_length : h;
@@ -341,10 +341,10 @@ void check_periodic(const Scene& s) {
                                      "geometry.spacing = {:g} m; a periodic length must be a whole "
                                      "number of spacings (the lattice would leave a gap at the seam)",
                                      axes[k], L, sites, s.spacing));
-      need(2 * h, 2 * h, "the fluid's");
+      need(2 * h / fluid_cells_per_radius, 2 * h, "the fluid's");
     }
     if (s.coupling) {
-      need(2 * h, 2 * hc, "the coupling's");
+      need(2 * h / fluid_cells_per_radius, 2 * hc, "the coupling's");
       need(2 * hc, 2 * hc, "the coupling's");
     }
     if (s.solids && !s.solids->fixed) {
@@ -548,6 +548,7 @@ Scene parse_scene(const std::string& yaml_text, const std::vector<std::string>& 
   s.cfl = r.number("numerics.cfl");
   s.dt_max = r.number("numerics.dt_max");
   s.cg_tolerance = r.number("numerics.cg_tolerance");
+  s.cg_density_tolerance = r.number("numerics.cg_density_tolerance");
   s.cg_max_iterations = r.integer("numerics.cg_max_iterations");
   s.pressure_operator = r.text("numerics.pressure_operator");
   s.surface_criterion = r.text("numerics.surface_criterion");

@@ -214,6 +214,9 @@ Field make_schema() {
                   number("dt_max", "s", "1.0e-3", 0, inf, "largest time step", true),
                   number("cg_tolerance", "", "1.0e-8", 1e-14, 1e-1,
                          "relative residual at which CG stops"),
+                  number("cg_density_tolerance", "", "1.0e-6", 0, 1e-1,
+                         "CG also stops once its residual leaves no particle a density change "
+                         "per step above this (dt^2 |r_i| / rho0; 0: off)"),
                   integer("cg_max_iterations", "2000", 1, 1e6, "CG iteration cap"),
                   choice("pressure_operator", "stored", {"stored", "matrix_free"},
                          "how CG applies the PPE matrix: coefficients stored once per step "

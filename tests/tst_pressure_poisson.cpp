@@ -194,6 +194,32 @@ geometry:
     CHECK(rel < 1e-8);
     CHECK(rel_stored < 1e-8);
   }
+
+  // The absolute stop (the solver's numerics.cg_density_tolerance): CG stops at the
+  // first iteration where no row's |b - A p| exceeds it, and reports that maximum.
+  Real b_max = 0;
+  for (int i = 0; i < n; ++i) b_max = std::max({b_max, std::abs(hb(i, 0)), std::abs(hb(i, 1))});
+  const Real limit = 1e-4 * b_max;
+  Kokkos::View<Real**, Mem> p_abs("p_abs", n, 2), q_abs("q_abs", n, 2);
+  const auto loose = cg.solve(matrix, diag, b, p_abs, n, 1e-14, 5000, limit);
+  REQUIRE(loose.converged);
+  CHECK(loose.iterations < result.iterations);
+  matrix.apply(p_abs, q_abs, diag, n);
+  auto hq = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), q_abs);
+  auto hdiag = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), diag);
+  for (int c = 0; c < 2; ++c) {
+    Real worst = 0;
+    for (int i = 0; i < n; ++i)
+      if (hdiag(i) > 0) worst = std::max(worst, std::abs(hb(i, c) - hq(i, c)));
+    WARN("column " << c << ": stopped after " << loose.iterations << " iterations at max |r| = "
+                   << worst << " (limit " << limit << ")");
+    CHECK(worst < limit * (1 + 1e-6));
+    CHECK(loose.max_residual[c] == Approx(worst).epsilon(1e-6));
+  }
+  // one iteration fewer would not have met it: the loose solve with one iteration less
+  Kokkos::View<Real**, Mem> p_short("p_short", n, 2);
+  const auto shorter = cg.solve(matrix, diag, b, p_short, n, 1e-14, loose.iterations - 1, limit);
+  CHECK_FALSE(shorter.converged);
 }
 
 // eq. 5's sources, checked against what they must be, not against assemble itself

@@ -1,11 +1,13 @@
 #pragma once
-// The cells of the neighbour grid that hold water, and which particles lie within one
-// cell of them. A wall particle farther from the water than the kernel radius has no
-// part in a step (role excluded), and in a tank such particles are most of the walls
-// (3D dam break, dx = 3 mm: 46 000 wall particles for 8 400 fluid ones); they get no
-// neighbour list. Cells are at least a kernel radius wide, so every particle with a
-// fluid neighbour is near a wet cell.
+// The cells of the neighbour grid that hold water, and which particles lie within a
+// kernel radius's worth of cells of them. A wall particle farther from the water than
+// the kernel radius has no part in a step (role excluded), and in a tank such particles
+// are most of the walls (3D dam break, dx = 3 mm: 46 000 wall particles for 8 400 fluid
+// ones); they get no neighbour list. Every particle with a fluid neighbour is near a wet
+// cell.
 #include "src/core/cell_list.hpp"
+
+#include <cmath>
 
 namespace dvisph {
 
@@ -21,21 +23,23 @@ class WetCells {
     Kokkos::View<const int*, memory_space> wet;
     X x;
     KindV kind;
+    int reach;  // cells that cover the kernel radius
     KOKKOS_INLINE_FUNCTION bool operator()(int i) const {
       if (kind(i) == Kind::fluid) return true;
       int c[D];
       for (int k = 0; k < D; ++k) c[k] = grid.clamp(grid.coord(x(i, k), k), k);
       bool near = false;
-      grid.for_each_row(c, 1, [&](int first, int last) {
+      grid.for_each_row(c, reach, [&](int first, int last) {
         for (int cell = first; cell <= last && !near; ++cell) near = wet(cell) != 0;
       });
       return near;
     }
   };
 
-  // Counts the fluid particles among the first n in each cell.
+  // Counts the fluid particles among the first n in each cell; the test it returns finds
+  // the particles with a wet cell within `radius`'s cells.
   template <class X, class KindV>
-  Near<X, KindV> mark(const Grid<D>& grid, const X& x, const KindV& kind, int n) {
+  Near<X, KindV> mark(const Grid<D>& grid, Real radius, const X& x, const KindV& kind, int n) {
     if (static_cast<int>(wet_.extent(0)) != grid.size())
       wet_ = Kokkos::View<int*, memory_space>("dvisph::wet_cells", grid.size());
     auto wet = wet_;
@@ -47,7 +51,14 @@ class WetCells {
           for (int k = 0; k < D; ++k) xi[k] = x(i, k);
           Kokkos::atomic_increment(&wet(grid.cell_of(xi)));
         });
-    return {grid, wet_, x, kind};
+    return {grid, wet_, x, kind, static_cast<int>(std::ceil(radius / grid.cell - 1e-12))};
+  }
+
+  // The same test `margin` cells wider: the particles the water may reach soon.
+  template <class X, class KindV>
+  static Near<X, KindV> wider(Near<X, KindV> near, int margin) {
+    near.reach += margin;
+    return near;
   }
 
   std::size_t bytes() const { return view_bytes(wet_); }

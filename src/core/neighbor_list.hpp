@@ -1,9 +1,19 @@
 #pragma once
-// A stored neighbour list (CSR), built once from a CellSweep and then swept many
-// times in one step (e.g. by the CG iterations). Same for_each interface as
-// CellSweep, same pair order, so the two are interchangeable in every kernel.
+// A stored neighbour list, built from a CellSweep and then swept many times in one
+// step (e.g. by the CG iterations). Same for_each interface as CellSweep, same pair
+// order, so the two are interchangeable in every kernel.
+//
+// Layout: row i holds its entries at offsets(i) .. ends(i) - 1 and has room up to
+// offsets(i + 1). A full build counts the rows that may be wanted soon (`roomy`, a
+// superset of the wanted ones), gives each its count plus some slack (`slack`), and
+// fills the wanted ones: two sweeps over the cells. The next build fills the rows in
+// place in one sweep, as long as no row outgrows its room (particles move a fraction
+// of a spacing per step, so counts change by a few); where one does, or the rows were
+// permuted (forget_layout), it builds in full. The pairs are the same either way.
 #include "src/core/csr_rows.hpp"
 #include "src/core/neighbor_sweep.hpp"
+
+#include <stdexcept>
 
 namespace dvisph {
 
@@ -20,56 +30,85 @@ class NeighborList {
   // side of a device lambda here crashed (a null copy function in nvcc's lambda
   // wrapper) when two test files instantiated build<..., Everyone>.
 
-  // Row i's length: the targets of `sweep` around query point i, none if not wanted.
+  // Row i's room: the targets of `sweep` around query point i and their slack (none
+  // if it is not roomy).
+  template <class XView, class Roomy>
+  struct RoomCount {
+    CellSweep<D, Space> sweep;
+    XView xq;
+    Roomy wanted;
+    KOKKOS_INLINE_FUNCTION int operator()(int i) const {
+      const int count = wanted(i) ? sweep.count(row<D>(xq, i)) : 0;
+      return count > 0 ? count + slack(count) + 1 : 0;  // and the spare slot of `Fill`
+    }
+  };
+
+  // Row i's entries: the targets of `sweep` around query point i, in sweep order, as
+  // many as its room holds but its last slot (CellSweep::collect's spare); sums the
+  // entries and counts the rows that did not fit.
   template <class XView, class Wanted>
-  struct TargetCount {
+  struct Fill {
     CellSweep<D, Space> sweep;
     XView xq;
     Wanted wanted;
-    KOKKOS_INLINE_FUNCTION int operator()(int i) const {
+    Kokkos::View<int*, memory_space> offsets, ends, neighbors;
+    Kokkos::View<int, memory_space> out_of_room;
+    using value_type = long;
+    KOKKOS_INLINE_FUNCTION void operator()(int i, long& entries) const {
+      const int first = offsets(i), spare = offsets(i + 1) - 1;
       int count = 0;
-      if (wanted(i)) sweep.for_each(i, row<D>(xq, i), [&](int, const Vec<D>&, Real) { ++count; });
-      return count;
+      if (wanted(i) && spare >= first) count = sweep.collect(row<D>(xq, i), neighbors, first, spare);
+      else if (wanted(i))  // no room: it fits if it has no target
+        count = sweep.count(row<D>(xq, i));
+      const bool fits = count == 0 || first + count <= spare;
+      if (!fits) Kokkos::atomic_increment(&out_of_room());
+      ends(i) = fits ? first + count : first;
+      entries += ends(i) - first;
     }
   };
 
-  // Row i's entries: the targets of `sweep` around query point i, in sweep order.
-  template <class XView>
-  struct TargetFill {
-    CellSweep<D, Space> sweep;
-    XView xq;
-    Kokkos::View<int*, memory_space> offsets, neighbors;
-    KOKKOS_INLINE_FUNCTION void operator()(int i) const {
-      int a = offsets(i);
-      if (a == offsets(i + 1)) return;
-      sweep.for_each(i, row<D>(xq, i), [&](int j, const Vec<D>&, Real) { neighbors(a++) = j; });
-    }
-  };
+  // Room beyond a row's count at a full build: what a step's motion may add.
+  KOKKOS_INLINE_FUNCTION static int slack(int count) { return count > 0 ? 4 + count / 8 : 0; }
 
   // Lists, for each of the n query points xq(i) with wanted(i), the targets of `sweep`
-  // (an empty list for the others).
-  template <class XView, class Wanted>
-  void build(const CellSweep<D, Space>& sweep, const XView& xq, int n, const Wanted& wanted) {
-    const int total = csr_offsets<Space>(offsets_, n, TargetCount<XView, Wanted>{sweep, xq, wanted},
-                                         "dvisph::neighbor_list");
-    reserve_entries(neighbors_, total, "dvisph::neighbor_list::neighbors");
-    Kokkos::parallel_for("dvisph::neighbor_list::fill", Kokkos::RangePolicy<Space>(0, n),
-                         TargetFill<XView>{sweep, xq, offsets_, neighbors_});
+  // (an empty list for the others); rows with roomy(i) get room at a full build.
+  template <class XView, class Wanted, class Roomy>
+  void build(const CellSweep<D, Space>& sweep, const XView& xq, int n, const Wanted& wanted,
+             const Roomy& roomy) {
+    if (n != n_ || static_cast<int>(ends_.extent(0)) < n) forget_layout();
+    if (!(laid_out_ && fill(sweep, xq, n, wanted))) {
+      const int room = csr_offsets<Space>(offsets_, n, RoomCount<XView, Roomy>{sweep, xq, roomy},
+                                          "dvisph::neighbor_list");
+      reserve_entries(neighbors_, room, "dvisph::neighbor_list::neighbors");
+      if (static_cast<int>(ends_.extent(0)) < n)
+        ends_ = Kokkos::View<int*, memory_space>(
+            Kokkos::view_alloc(Kokkos::WithoutInitializing, "dvisph::neighbor_list::ends"), n);
+      if (!fill(sweep, xq, n, wanted)) throw std::logic_error("NeighborList: a counted row overflowed");
+      ++full_builds_;
+    }
     n_ = n;
-    pairs_ = total;
+    laid_out_ = true;
     x_ = sweep.x;
     radius2_ = sweep.radius2;
     periodic_ = sweep.grid.periodic;
   }
 
+  template <class XView, class Wanted>
+  void build(const CellSweep<D, Space>& sweep, const XView& xq, int n, const Wanted& wanted) {
+    build(sweep, xq, n, wanted, wanted);
+  }
   template <class XView>
   void build(const CellSweep<D, Space>& sweep, const XView& xq, int n) {
     build(sweep, xq, n, Everyone{});
   }
 
+  // The rows no longer belong to the same query points (they were permuted): the next
+  // build counts them afresh.
+  void forget_layout() { laid_out_ = false; }
+
   struct Sweep {
     using execution_space = Space;
-    Kokkos::View<const int*, memory_space> offsets, neighbors;
+    Kokkos::View<const int*, memory_space> offsets, ends, neighbors;
     Kokkos::View<const Real* [D], memory_space> x;
     Real radius2;
     Periodic<D> periodic;
@@ -77,21 +116,39 @@ class NeighborList {
     // that drifted beyond the radius are skipped (a list built with a skin stays valid).
     template <class F>
     KOKKOS_INLINE_FUNCTION void for_each(int i, const Vec<D>& xi, F&& f) const {
-      for (int a = offsets(i); a < offsets(i + 1); ++a) visit_within(x, neighbors(a), xi, radius2, periodic, f);
+      for (int a = offsets(i); a < ends(i); ++a) visit_within(x, neighbors(a), xi, radius2, periodic, f);
     }
   };
   // The sweep over stored pairs; `radius` may be smaller than the build radius.
-  Sweep sweep(Real radius) const { return Sweep{offsets_, neighbors_, x_, radius * radius, periodic_}; }
-  Sweep sweep() const { return Sweep{offsets_, neighbors_, x_, radius2_, periodic_}; }
+  Sweep sweep(Real radius) const { return Sweep{offsets_, ends_, neighbors_, x_, radius * radius, periodic_}; }
+  Sweep sweep() const { return Sweep{offsets_, ends_, neighbors_, x_, radius2_, periodic_}; }
 
   long pairs() const { return pairs_; }
-  std::size_t bytes() const { return view_bytes(offsets_, neighbors_); }
+  // builds that counted the rows (the others filled them in place)
+  long full_builds() const { return full_builds_; }
+  std::size_t bytes() const { return view_bytes(offsets_, ends_, neighbors_, out_of_room_); }
 
  private:
-  int n_ = 0;
-  long pairs_ = 0;
+  // Fills the rows in their room; false if one did not fit (the list is then unusable).
+  template <class XView, class Wanted>
+  bool fill(const CellSweep<D, Space>& sweep, const XView& xq, int n, const Wanted& wanted) {
+    Kokkos::deep_copy(Space(), out_of_room_, 0);
+    long entries = 0;
+    Kokkos::parallel_reduce("dvisph::neighbor_list::fill", Kokkos::RangePolicy<Space>(0, n),
+                            Fill<XView, Wanted>{sweep, xq, wanted, offsets_, ends_, neighbors_, out_of_room_},
+                            entries);
+    int out = 0;
+    Kokkos::deep_copy(out, out_of_room_);
+    pairs_ = entries;
+    return out == 0;
+  }
+
+  int n_ = -1;
+  bool laid_out_ = false;
+  long pairs_ = 0, full_builds_ = 0;
+  Kokkos::View<int, memory_space> out_of_room_{"dvisph::neighbor_list::out_of_room"};
   Real radius2_ = 0;
-  Kokkos::View<int*, memory_space> offsets_, neighbors_;
+  Kokkos::View<int*, memory_space> offsets_, ends_, neighbors_;
   Kokkos::View<const Real* [D], memory_space> x_;
   Periodic<D> periodic_;
 };

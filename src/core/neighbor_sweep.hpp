@@ -60,6 +60,41 @@ struct CellSweep {
       for (int a = offsets(first); a < end; ++a) visit_within(x, particles(a), xi, radius2, grid.periodic, f);
     });
   }
+
+  // The targets within the radius of xi, in for_each's order, written to out(first),
+  // out(first + 1), ... while below `spare`; those beyond go to out(spare), a scratch
+  // slot. Returns how many there are. No branch on the distance test (the store is
+  // unconditional, the index advances by the test), so the loop over a row of cells
+  // does not stall on it: the stored list's build (neighbor_list.hpp).
+  template <class Out>
+  KOKKOS_INLINE_FUNCTION int collect(const Vec<D>& xi, const Out& out, int first, int spare) const {
+    return within<true>(xi, out, first, spare);
+  }
+  // How many targets lie within the radius of xi (collect without the stores).
+  KOKKOS_INLINE_FUNCTION int count(const Vec<D>& xi) const {
+    return within<false>(xi, particles, 0, 0);
+  }
+
+  template <bool Store, class Out>
+  KOKKOS_INLINE_FUNCTION int within(const Vec<D>& xi, const Out& out, int first, int spare) const {
+    int c[D];
+    for (int k = 0; k < D; ++k) c[k] = grid.coord(xi[k], k);
+    int a = first;
+    grid.for_each_row(c, reach, [&](int first_cell, int last_cell) {
+      const int end = offsets(last_cell + 1);
+      for (int b = offsets(first_cell); b < end; ++b) {
+        const int j = particles(b);
+        Vec<D> xij;
+        for (int k = 0; k < D; ++k) xij[k] = xi[k] - x(j, k);
+        grid.periodic.nearest_image(xij);
+        Real r2 = 0;
+        for (int k = 0; k < D; ++k) r2 += xij[k] * xij[k];
+        if constexpr (Store) out(a < spare ? a : spare) = j;
+        a += r2 < radius2;
+      }
+    });
+    return a - first;
+  }
 };
 
 }  // namespace dvisph
