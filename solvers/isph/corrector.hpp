@@ -16,7 +16,7 @@ void corrector(const Sweep& sweep, const Kernel& kernel, const X& x, const VStar
                Real dt, int physical, int transport, const V& v, const V& vt, int n) {
   using Space = typename Sweep::execution_space;
   Kokkos::parallel_for(
-      "dvisph::isph::corrector", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
+      "dvisph::isph::corrector", RowPolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
         if (kind(i) != Kind::fluid) return;
         const Real pa = p(i, physical), pb = p(i, transport);
         Vec<D> ga = Vec<D>::zero(), gb = Vec<D>::zero();

@@ -37,7 +37,7 @@ class PoissonMatrix {
     auto columns = columns_;
     auto values = values_;
     Kokkos::parallel_for(
-        "dvisph::poisson_matrix::fill", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
+        "dvisph::poisson_matrix::fill", RowPolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
           int a = offsets(i);
           ppe.for_each_coefficient(i, [&](int j, Real w) {
             columns(a) = j;
@@ -64,7 +64,7 @@ class PoissonMatrix {
     const auto columns = columns_;
     const auto values = values_;
     Kokkos::parallel_for(
-        "dvisph::poisson_matrix::apply", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
+        "dvisph::poisson_matrix::apply", RowPolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
           Real sum[K] = {};
           for (int a = offsets(i); a < offsets(i + 1); ++a)
             for (int k = 0; k < K; ++k) sum[k] += values(a) * p(columns(a), k);

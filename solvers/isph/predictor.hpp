@@ -17,7 +17,7 @@ void predictor(const Sweep& sweep, const Kernel& kernel, const X& x, const V& v,
   using Space = typename Sweep::execution_space;
   if (nu == 0) {
     Kokkos::parallel_for(
-        "dvisph::isph::predictor", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
+        "dvisph::isph::predictor", RowPolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
           const Real f = medium.porosity(i) * medium.inverse_virtual_mass(i);
           if (kind(i) != Kind::fluid) {
             for (int k = 0; k < D; ++k) vstar(i, k) = dt * (f * g[k]);
@@ -31,7 +31,7 @@ void predictor(const Sweep& sweep, const Kernel& kernel, const X& x, const V& v,
     return;
   }
   Kokkos::parallel_for(
-      "dvisph::isph::predictor_viscous", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
+      "dvisph::isph::predictor_viscous", RowPolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
         if (kind(i) != Kind::fluid) {
           const Real f = medium.porosity(i) * medium.inverse_virtual_mass(i);
           for (int k = 0; k < D; ++k) vstar(i, k) = dt * (f * g[k]);

@@ -74,7 +74,7 @@ struct PressurePoisson {
     Real gam[max_rhs];
     for (int k = 0; k < max_rhs; ++k) gam[k] = gamma[k];
     Kokkos::parallel_for(
-        "dvisph::pressure_poisson::assemble", Kokkos::RangePolicy<Space>(0, n),
+        "dvisph::pressure_poisson::assemble", RowPolicy<Space>(0, n),
         KOKKOS_LAMBDA(int i) {
           const Role ri = self.role(i);
           if (!unknown(ri)) {
@@ -151,7 +151,7 @@ struct PressurePoisson {
     const auto self = *this;
     const int K = static_cast<int>(p.extent(1));
     Kokkos::parallel_for(
-        "dvisph::pressure_poisson::apply", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
+        "dvisph::pressure_poisson::apply", RowPolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
           Real sum[max_rhs] = {};
           self.for_each_coefficient(i, [&](int j, Real w) {
             for (int k = 0; k < K; ++k) sum[k] += w * p(j, k);

@@ -65,7 +65,7 @@ void density_and_roles(const Sweep& sweep, const Kernel& kernel, const X& x, con
   for (int k = 0; k < D; ++k) gnorm += test.g[k] * test.g[k];
   const Real p_tol = 1e-9 * test.rho0 * math::sqrt(gnorm) * kernel.h;
   Kokkos::parallel_for(
-      "dvisph::isph::density_and_roles", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
+      "dvisph::isph::density_and_roles", RowPolicy<Space>(0, n), KOKKOS_LAMBDA(int i) {
         const bool fluid = kind(i) == Kind::fluid;
         Real sum = 0, div_r = 0, w_fluid = 0, p_fluid = 0;
         Vec<D> cut = Vec<D>::zero();

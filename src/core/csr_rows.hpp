@@ -19,7 +19,7 @@ int csr_offsets(Kokkos::View<int*, typename Space::memory_space>& offsets, int n
     offsets = Kokkos::View<int*, typename Space::memory_space>(name + "::offsets", n + 1);
   auto o = offsets;
   Kokkos::parallel_for(
-      name + "::count", Kokkos::RangePolicy<Space>(0, n), KOKKOS_LAMBDA(int i) { o(i + 1) = count(i); });
+      name + "::count", RowPolicy<Space>(0, n), KOKKOS_LAMBDA(int i) { o(i + 1) = count(i); });
   int total = 0;
   Kokkos::parallel_scan(
       name + "::prefix_sum", Kokkos::RangePolicy<Space>(0, n + 1),

@@ -134,7 +134,7 @@ class NeighborList {
   bool fill(const CellSweep<D, Space>& sweep, const XView& xq, int n, const Wanted& wanted) {
     Kokkos::deep_copy(Space(), out_of_room_, 0);
     long entries = 0;
-    Kokkos::parallel_reduce("dvisph::neighbor_list::fill", Kokkos::RangePolicy<Space>(0, n),
+    Kokkos::parallel_reduce("dvisph::neighbor_list::fill", RowPolicy<Space>(0, n),
                             Fill<XView, Wanted>{sweep, xq, wanted, offsets_, ends_, neighbors_, out_of_room_},
                             entries);
     int out = 0;
