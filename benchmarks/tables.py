@@ -12,6 +12,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+from suite import stop_label  # noqa: E402
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 RESULTS = os.path.join(ROOT, "benchmarks", "results")
 
@@ -58,7 +60,7 @@ def suite_tables(labels):
         rows = []
         for r in data["runs"]:
             if r["exit_code"] != 0:
-                rows.append([r["case"], f"{r['resolution']:g}", f"{r['cg_tolerance']:.0e}", "failed",
+                rows.append([r["case"], f"{r['resolution']:g}", stop_label(r), "failed",
                              f"exit {r['exit_code']}: {r.get('error', '')[:60]}", "", "", "", "", "", "", "",
                              fmt(r["other_load"], ".2f")])
                 continue
@@ -67,14 +69,14 @@ def suite_tables(labels):
             ppe = st.get("pressure_poisson", 0) / total
             nb = st.get("neighbors", 0) / total
             rows.append([
-                r["case"], f"{r['resolution']:g}", f"{r['cg_tolerance']:.0e}", r["particles"],
+                r["case"], f"{r['resolution']:g}", stop_label(r), r["particles"],
                 r["steps"], f"{r['wall_seconds']:.1f}", f"{r['cg_iterations_mean']:.0f}",
                 f"{r['ns_per_particle_step']:.0f}", fmt(r.get("pair_interactions_per_second"), ".3g"),
                 f"{fmt(r.get('front_rms_deviation_T1_3'), '.4f')} / {fmt(r.get('front_rms_deviation_T1_3_after_lag'), '.4f')}",
                 fmt(r.get("density_error_p95"), ".4f"),
                 f"{100 * ppe:.0f} % / {100 * nb:.0f} %", fmt(r.get("memory_bytes_per_particle"), ".0f"),
                 fmt(r["other_load"], ".2f")])
-        print(table(["case", "a/dx", "CG tol", "particles", "steps", "wall s", "CG it/step",
+        print(table(["case", "a/dx", "CG stop", "particles", "steps", "wall s", "CG it/step",
                      "ns/particle-step", "pairs/s", "front RMS / after lag", "density p95",
                      "PPE / neighbours share", "bytes/particle", "other load"], rows))
         cmds = sorted({r["command"].split(" --out ")[0] for r in data["runs"]})
@@ -197,7 +199,7 @@ def targets(labels):
         for r in data["runs"]:
             if r["case"] == "dam_break_3d" and abs(r["spacing"] - 0.003) < 1e-9 and r["exit_code"] == 0:
                 w = r["wall_seconds"]
-                rows.append([f"3D dam break dx = 3 mm to T = 3, {label}, CG tol {r['cg_tolerance']:.0e}",
+                rows.append([f"3D dam break dx = 3 mm to T = 3, {label}, CG {stop_label(r)}",
                              f"<= {DAM_BREAK_3D_SECONDS} s", f"{w:.3g} s ({r['steps']} steps)",
                              "met" if w <= DAM_BREAK_3D_SECONDS else f"{w / DAM_BREAK_3D_SECONDS:.1f}x over"])
                 if r.get("backend") == "Cuda" and (label, r["particles"]) not in memory_rows:
