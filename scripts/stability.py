@@ -90,6 +90,7 @@ CASES = [
 # What the matrix showed (2026-11-22), printed under each table; update when re-run.
 FINDINGS = {
     "dam_break_2d":
+        "2026-12-02 (issue 16): re-run with CG's density stop (numerics.cg_density_tolerance = 1e-6, docs/isph.md) and the finer fluid cells: 80 of 90 cells stable (79 before), CG 44 iterations a step on average over the cells. Median density error over the stable cells of each gamma: 0: 8.6 % (16), 0.001: 8.7 % (16), 0.1: 7.0 % (18), 0.5: 7.5 % (15), 1: 6.7 % (15). The unstable cells are the same kinds: h/dx = 1.2 from a jittered start (12.2 %) and CFL 0.5 with gamma <= 0.001 (10.7-11.2 %). "
         "2026-12-01 (issue 19): re-run with the density-invariance weight read from the support's truncation instead of div r, and with the density error as the paper reads it (P >= 100 Pa, no free-surface particle within the support, under- and over-density alike; docs/isph.md). 79 of 90 cells stable (75 before), no guard fails. Median density error over the stable cells of each gamma: 0: 8.2 % (16), 0.001: 8.7 % (16), 0.1: 6.6 % (17), 0.5: 7.5 % (15), 1: 6.7 % (15). Unstable: h/dx = 1.2 from a jittered start (12.2 %, the jitter's first-step figure, the same in every such cell), and CFL 0.5 with gamma <= 0.1 (10.3-11.2 %). Session 6's figures follow. "
         "Session 6, with the wall condition that stops water moving into a wall (docs/isph.md): "
         "75 of 90 cells stable (62 before it) and no cell fails a guard any more. The h/dx = 1.2, "
@@ -146,6 +147,7 @@ FINDINGS = {
         "Next: the gamma part of the solve with the D G operator itself, or a consistent "
         "Laplacian. CFL 0.5 costs 1-5 points of density error at every gamma.",
     "dam_break_2d_impact":
+        "2026-12-02 (issue 16), with CG's density stop: 3 of 8 cells stable, as before, CG 22-41 iterations a step (62-77 before); the largest density error 5.7-15.0 % (before 5.7-14.7 %; CFL 0.1, gamma 0.5 rose from 10.9 to 15.0 %, gamma 1 from 8.2 to 9.5 %), water up to 0.26 dx into the wall (before 0.26 dx). "
         "2026-12-01 (issue 19), same changes as above: 3 of 8 cells stable (1 before): the largest density error, set at the impact, is 5.7-14.7 % (before 9.8-21 %), lower in every cell; water gets up to 0.26 dx into the wall (before 0.31 dx). Session 6's text follows. "
         "Added in session 6: no earlier case drove water at a wall. The front reaches the far "
         "wall at t = 0.15 s (T = 3) at about 1.5 m/s. With the hydrostatic wall condition alone "
@@ -167,6 +169,7 @@ FINDINGS = {
         "walls (largest density error 19.5 %, p95 3.8 %). Next: the corners, and the impact's "
         "density error with the dual-velocity step's transport correction.",
     "hydrostatic_2d":
+        "2026-12-02 (issue 16), with CG's density stop: 30 of 30 stable; the largest density error over the cells 8.0 % (h/dx = 1.2, jittered). "
         "2026-12-01 (issue 19), same changes: 30 of 30 stable. With the new metric the regular "
         "lattices at h/dx >= 1.5 reach at most 0.24-0.93 % (before 0.2-1.44 %) and the jittered ones "
         "2.4-5.2 % (before also 2.4-5.2 %), the jitter's own error included. Earlier text: "
@@ -209,6 +212,7 @@ FINDINGS = {
     "dry_collapse":
         "As for the bed (the first 0.05 s of a collapse is mostly the same fall).",
     "glass_beads_2d":
+        "2026-12-02 (issue 16), with CG's density stop and the finer fluid cells: 21 of 24 cells stable (22 before); the cell that went over is the conventional step (alpha = beta = 0.001) at CFL 0.1 with 2500 kg/m3 beads, at a p95 of 10.0 %, on the threshold; every proposed cell (beta = 0.5) is stable. "
         "2026-12-02 (issue 15), the scene with h_c = 2.5 d (coupling.smoothing_length 6.75 mm), "
         "d eps/dt in the PPE source and the wall stop step at the water's mobility "
         "(docs/coupling.md). Judged on the p95 over the run: in most cells with beads a single "
