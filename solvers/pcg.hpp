@@ -16,43 +16,27 @@ namespace dvisph {
 
 constexpr int max_rhs = 2;
 
-// N sums in one reduction (Kokkos 3.x has no multiple-reducer parallel_reduce and
-// joins through volatile references).
-template <int N>
+// N sums and M maxima (of non-negative values) in one reduction (Kokkos 3.x has no
+// multiple-reducer parallel_reduce and joins through volatile references).
+template <int N, int M = 0>
 struct Sums {
-  Real v[N];
+  Real v[N], m[M > 0 ? M : 1];
   KOKKOS_INLINE_FUNCTION Sums() {
     for (int k = 0; k < N; ++k) v[k] = 0;
+    for (int k = 0; k < M; ++k) m[k] = 0;
   }
   KOKKOS_INLINE_FUNCTION Sums& operator+=(const Sums& o) {
     for (int k = 0; k < N; ++k) v[k] += o.v[k];
+    for (int k = 0; k < M; ++k) m[k] = m[k] < o.m[k] ? o.m[k] : m[k];
     return *this;
   }
   KOKKOS_INLINE_FUNCTION void operator+=(const volatile Sums& o) volatile {
     for (int k = 0; k < N; ++k) v[k] += o.v[k];
+    for (int k = 0; k < M; ++k) m[k] = m[k] < o.m[k] ? o.m[k] : m[k];
   }
 };
 using ColumnSums = Sums<max_rhs>;
-
-// N sums and M maxima of non-negative values in one reduction.
-template <int N, int M>
-struct SumsAndMax {
-  Real v[N], m[M];
-  KOKKOS_INLINE_FUNCTION SumsAndMax() {
-    for (int k = 0; k < N; ++k) v[k] = 0;
-    for (int k = 0; k < M; ++k) m[k] = 0;
-  }
-  KOKKOS_INLINE_FUNCTION SumsAndMax& operator+=(const SumsAndMax& o) {
-    for (int k = 0; k < N; ++k) v[k] += o.v[k];
-    for (int k = 0; k < M; ++k) m[k] = m[k] < o.m[k] ? o.m[k] : m[k];
-    return *this;
-  }
-  KOKKOS_INLINE_FUNCTION void operator+=(const volatile SumsAndMax& o) volatile {
-    for (int k = 0; k < N; ++k) v[k] += o.v[k];
-    for (int k = 0; k < M; ++k) m[k] = m[k] < o.m[k] ? o.m[k] : m[k];
-  }
-};
-using UpdateSums = SumsAndMax<2 * max_rhs, max_rhs>;  // r.z, r.r, then max |r_i| per column
+using UpdateSums = Sums<2 * max_rhs, max_rhs>;  // r.z, r.r, then max |r_i| per column
 
 struct CgResult {
   int iterations = 0;
@@ -92,10 +76,10 @@ class ConjugateGradient {
     const auto range = Kokkos::RangePolicy<Space>(0, n);
 
     A.apply(x, q, diag, n);
-    SumsAndMax<3 * max_rhs, max_rhs> init;  // r.z, b.b, r.r; max |r_i|
+    Sums<3 * max_rhs, max_rhs> init;  // r.z, b.b, r.r; max |r_i|
     Kokkos::parallel_reduce(
         "dvisph::pcg::init", range,
-        KOKKOS_LAMBDA(int i, SumsAndMax<3 * max_rhs, max_rhs>& s) {
+        KOKKOS_LAMBDA(int i, Sums<3 * max_rhs, max_rhs>& s) {
           const Real inv_d = diag(i) > 0 ? 1 / diag(i) : 0;
           for (int k = 0; k < K; ++k) {
             r(i, k) = diag(i) > 0 ? b(i, k) - q(i, k) : 0;

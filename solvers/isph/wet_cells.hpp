@@ -7,8 +7,6 @@
 // cell.
 #include "src/core/cell_list.hpp"
 
-#include <cmath>
-
 namespace dvisph {
 
 template <int D, class Space>
@@ -34,6 +32,12 @@ class WetCells {
       });
       return near;
     }
+    // The same test `margin` cells wider: the particles the water may reach soon.
+    Near wider(int margin) const {
+      Near w = *this;
+      w.reach += margin;
+      return w;
+    }
   };
 
   // Counts the fluid particles among the first n in each cell; the test it returns finds
@@ -51,14 +55,7 @@ class WetCells {
           for (int k = 0; k < D; ++k) xi[k] = x(i, k);
           Kokkos::atomic_increment(&wet(grid.cell_of(xi)));
         });
-    return {grid, wet_, x, kind, static_cast<int>(std::ceil(radius / grid.cell - 1e-12))};
-  }
-
-  // The same test `margin` cells wider: the particles the water may reach soon.
-  template <class X, class KindV>
-  static Near<X, KindV> wider(Near<X, KindV> near, int margin) {
-    near.reach += margin;
-    return near;
+    return {grid, wet_, x, kind, grid.reach(radius)};
   }
 
   std::size_t bytes() const { return view_bytes(wet_); }

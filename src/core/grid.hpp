@@ -53,6 +53,8 @@ struct Grid {
   KOKKOS_INLINE_FUNCTION int wrap(int c, int k) const {
     return c < 0 ? c + ncell[k] : (c >= ncell[k] ? c - ncell[k] : c);
   }
+  // Cells on each side that cover a search radius.
+  int reach(Real radius) const { return static_cast<int>(std::ceil(radius / cell - 1e-12)); }
   // Whether `reach` cells on each side of a cell stay distinct cells along every periodic
   // axis (a neighbourhood that wrapped onto itself would visit particles twice).
   bool reach_fits(int reach) const {

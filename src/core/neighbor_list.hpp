@@ -36,9 +36,9 @@ class NeighborList {
   struct RoomCount {
     CellSweep<D, Space> sweep;
     XView xq;
-    Roomy wanted;
+    Roomy roomy;
     KOKKOS_INLINE_FUNCTION int operator()(int i) const {
-      const int count = wanted(i) ? sweep.count(row<D>(xq, i)) : 0;
+      const int count = roomy(i) ? sweep.count(row<D>(xq, i)) : 0;
       return count > 0 ? count + slack(count) + 1 : 0;  // and the spare slot of `Fill`
     }
   };

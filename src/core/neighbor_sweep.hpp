@@ -11,6 +11,18 @@
 
 namespace dvisph {
 
+// xij = xi - x_j at its nearest image along periodic axes; returns |xij|^2. The pair
+// vector every sweep computes for its candidates.
+template <int D, class XView>
+KOKKOS_INLINE_FUNCTION Real pair_vector(const XView& x, int j, const Vec<D>& xi,
+                                        const Periodic<D>& periodic, Vec<D>& xij) {
+  for (int k = 0; k < D; ++k) xij[k] = xi[k] - x(j, k);
+  periodic.nearest_image(xij);
+  Real r2 = 0;
+  for (int k = 0; k < D; ++k) r2 += xij[k] * xij[k];
+  return r2;
+}
+
 // Calls f(j, xi - x_j, |xi - x_j|) when candidate j lies within sqrt(radius2) of xi
 // (at its nearest image along periodic axes): the distance test every sweep applies to
 // its candidates.
@@ -18,10 +30,7 @@ template <int D, class XView, class F>
 KOKKOS_INLINE_FUNCTION void visit_within(const XView& x, int j, const Vec<D>& xi, Real radius2,
                                          const Periodic<D>& periodic, F&& f) {
   Vec<D> xij;
-  for (int k = 0; k < D; ++k) xij[k] = xi[k] - x(j, k);
-  periodic.nearest_image(xij);
-  Real r2 = 0;
-  for (int k = 0; k < D; ++k) r2 += xij[k] * xij[k];
+  const Real r2 = pair_vector<D>(x, j, xi, periodic, xij);
   if (r2 < radius2) f(j, xij, math::sqrt(r2));
 }
 
@@ -43,7 +52,7 @@ struct CellSweep {
         particles(cells.permutation()),
         x(target_x),
         radius2(radius * radius),
-        reach(static_cast<int>(std::ceil(radius / cells.grid().cell - 1e-12))) {
+        reach(cells.grid().reach(radius)) {
     if (!grid.reach_fits(reach))
       throw std::invalid_argument(
           "CellSweep: a periodic axis is shorter than 2 search radii plus a cell; its pairs "
@@ -52,13 +61,7 @@ struct CellSweep {
 
   template <class F>
   KOKKOS_INLINE_FUNCTION void for_each(int /*i*/, const Vec<D>& xi, F&& f) const {
-    int c[D];
-    for (int k = 0; k < D; ++k) c[k] = grid.coord(xi[k], k);
-    grid.for_each_row(c, reach, [&](int first, int last) {
-      // the cells of a row are contiguous in the permutation
-      const int end = offsets(last + 1);
-      for (int a = offsets(first); a < end; ++a) visit_within(x, particles(a), xi, radius2, grid.periodic, f);
-    });
+    for_each_candidate(xi, [&](int j) { visit_within(x, j, xi, radius2, grid.periodic, f); });
   }
 
   // The targets within the radius of xi, in for_each's order, written to out(first),
@@ -75,23 +78,26 @@ struct CellSweep {
     return within<false>(xi, particles, 0, 0);
   }
 
-  template <bool Store, class Out>
-  KOKKOS_INLINE_FUNCTION int within(const Vec<D>& xi, const Out& out, int first, int spare) const {
+  // g(j) for every particle j in the cells within reach of xi's cell, in cell order.
+  template <class G>
+  KOKKOS_INLINE_FUNCTION void for_each_candidate(const Vec<D>& xi, G&& g) const {
     int c[D];
     for (int k = 0; k < D; ++k) c[k] = grid.coord(xi[k], k);
+    grid.for_each_row(c, reach, [&](int first, int last) {
+      // the cells of a row are contiguous in the permutation
+      const int end = offsets(last + 1);
+      for (int a = offsets(first); a < end; ++a) g(particles(a));
+    });
+  }
+
+  template <bool Store, class Out>
+  KOKKOS_INLINE_FUNCTION int within(const Vec<D>& xi, const Out& out, int first, int spare) const {
     int a = first;
-    grid.for_each_row(c, reach, [&](int first_cell, int last_cell) {
-      const int end = offsets(last_cell + 1);
-      for (int b = offsets(first_cell); b < end; ++b) {
-        const int j = particles(b);
-        Vec<D> xij;
-        for (int k = 0; k < D; ++k) xij[k] = xi[k] - x(j, k);
-        grid.periodic.nearest_image(xij);
-        Real r2 = 0;
-        for (int k = 0; k < D; ++k) r2 += xij[k] * xij[k];
-        if constexpr (Store) out(a < spare ? a : spare) = j;
-        a += r2 < radius2;
-      }
+    for_each_candidate(xi, [&](int j) {
+      Vec<D> xij;
+      const Real r2 = pair_vector<D>(x, j, xi, grid.periodic, xij);
+      if constexpr (Store) out(a < spare ? a : spare) = j;
+      a += r2 < radius2;
     });
     return a - first;
   }
