@@ -198,7 +198,7 @@ Field make_schema() {
               {
                   choice("kernel", "wendland_c2", {"cubic_spline", "wendland_c2"},
                          "smoothing kernel (Wendland C2 keeps a square lattice under pressure "
-                         "from rearranging)"),
+                         "far longer than the cubic spline, not for ever: docs/isph.md)"),
                   number("h_over_dx", "", "1.5", 1.0, 2.5, "smoothing length over spacing"),
                   number("gamma", "", "0.1", 0, 1,
                          "density-invariance (stabilization) parameter of the PPE: alpha = "
