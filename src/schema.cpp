@@ -58,10 +58,9 @@ Field list(std::string name, bool required, std::vector<Field> item, std::string
   f.type = FieldType::list;
   return f;
 }
-Field box(std::string name, bool required, std::string help) {
-  return map(std::move(name), required,
-             {vector("lo", "m", "", "lower corner"), vector("hi", "m", "", "upper corner")},
-             std::move(help));
+// the keys of a box in a list of boxes
+std::vector<Field> corners() {
+  return {vector("lo", "m", "", "lower corner"), vector("hi", "m", "", "upper corner")};
 }
 
 Field make_schema() {
@@ -105,7 +104,7 @@ Field make_schema() {
                       },
                       "tank: box of wall particles around the fluid"),
                   list("fluid", false,
-                       {vector("lo", "m", "", "lower corner"), vector("hi", "m", "", "upper corner")},
+                       corners(),
                        "boxes filled with fluid particles (a list of lo/hi maps); a scene "
                        "without fluid runs the DEM alone"),
                   map("gate", false,
@@ -138,7 +137,7 @@ Field make_schema() {
                          "than the contact search are listed, and the list is rebuilt once a "
                          "bead has moved half of it"),
                   list("lattice", false,
-                       {vector("lo", "m", "", "lower corner"), vector("hi", "m", "", "upper corner")},
+                       corners(),
                        "boxes filled with beads on a square lattice, bottom layer first"),
                   number("lattice_spacing", "", "1.1", 0.5, 10,
                          "lattice: distance between bead centres over d; at least 1 unless "
