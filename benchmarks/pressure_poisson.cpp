@@ -283,6 +283,19 @@ bench::Record run(long target_n, const Options& opt, double triad) {
       },
       solve_repeats);
   Kokkos::Profiling::popRegion();
+  // the same stored solve with the Chebyshev preconditioner (numerics.cg_preconditioner)
+  ConjugateGradient<Space> cg_cheb;
+  cg_cheb.chebyshev(3, 30);
+  CgResult chebyshev;
+  Kokkos::Profiling::pushRegion("dvisph::bench::ppe::solve_csr_chebyshev3");
+  const auto t_cheb = bench::time_it<Space>(
+      [&] {
+        copy_column<Space>(b1, b, 0, n);
+        copy_column<Space>(p1, guess, 0, n);
+        chebyshev = cg_cheb.solve(csr, diag, b1, p1, n, cg_tolerance, cg_max_iterations);
+      },
+      solve_repeats);
+  Kokkos::Profiling::popRegion();
   // the single solve of column 0 alone, for the comparison with Eigen
   Kokkos::Profiling::pushRegion("dvisph::bench::ppe::solve_single");
   const auto t_one = bench::time_it<Space>(
@@ -346,16 +359,19 @@ bench::Record run(long target_n, const Options& opt, double triad) {
       .add("solve_single_s", t_one.median_s, 4)
       .add("solve_csr_s", t_csr.median_s, 4)
       .add("solve_csr_iterations", stored.iterations)
+      .add("solve_csr_chebyshev3_s", t_cheb.median_s, 4)
+      .add("solve_csr_chebyshev3_iterations", chebyshev.iterations)
       .add("eigen_s", t_eigen.median_s, 4)
       .add("eigen_iterations", static_cast<long>(eigen_cg.iterations()))
       .add("eigen_threads", eigen_threads)
       .add("eigen_over_ours", t_eigen.median_s / t_one.median_s, 3)
       .add_significant("eigen_max_relative_difference", diff / scale, 3);
   fmt::print(stderr,
-             "  solve: two rhs {:.3f} s ({} it), two singles {:.3f} s ({} + {} it), csr {:.3f} s, "
-             "Eigen {:.3f} s ({} it) = {:.2f} x ours ({:.3f} s)\n",
+             "  solve: two rhs {:.3f} s ({} it), two singles {:.3f} s ({} + {} it), csr {:.3f} s "
+             "({} it; Chebyshev 3: {:.3f} s, {} it), Eigen {:.3f} s ({} it) = {:.2f} x ours ({:.3f} s)\n",
              t_two.median_s, two.iterations, t_singles.median_s, single[0].iterations,
-             single[1].iterations, t_csr.median_s, t_eigen.median_s, eigen_cg.iterations(),
+             single[1].iterations, t_csr.median_s, stored.iterations, t_cheb.median_s,
+             chebyshev.iterations, t_eigen.median_s, eigen_cg.iterations(),
              t_eigen.median_s / t_one.median_s, t_one.median_s);
   return r;
 }

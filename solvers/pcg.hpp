@@ -7,6 +7,12 @@
 // largest |r_i| of a row (`max_tolerance`), whichever comes first.
 // The absolute test lets a caller stop at a residual that means something physical
 // (the PPE: the density change per step it leaves, IsphSolver::solve_pressure).
+// Preconditioner: Jacobi, or (`chebyshev(degree, ratio)`) the Chebyshev polynomial of
+// degree m in D^-1 A that best approximates A^-1 on [2/ratio, 2] (Saad, Iterative Methods,
+// alg. 12.1, D-scaled), m - 1 more operator applications per iteration. The eigenvalues
+// of D^-1 A lie in (0, 2] for any matrix whose diagonal is at least the sum of its row's
+// off-diagonal magnitudes (Gershgorin), as the PPE's is; p(lambda) > 0 on (0, 2 + 2/ratio),
+// so the preconditioner is SPD whatever the true spectrum, and fixed, as CG needs.
 #include "src/core/types.hpp"
 
 #include <cmath>
@@ -52,12 +58,77 @@ class ConjugateGradient {
   using Vectors = Kokkos::View<Real**, memory_space>;
   using Diagonal = Kokkos::View<Real*, memory_space>;
 
+  // degree <= 1: Jacobi. ratio: the interval's upper end over its lower end.
+  void chebyshev(int degree, Real ratio) {
+    degree_ = degree;
+    ratio_ = ratio;
+  }
+
   void resize(int n, int k) {
-    if (static_cast<int>(r_.extent(0)) == n && static_cast<int>(r_.extent(1)) == k) return;
+    const bool polynomial = degree_ > 1;
+    if (static_cast<int>(r_.extent(0)) == n && static_cast<int>(r_.extent(1)) == k &&
+        (static_cast<int>(d_.extent(0)) == n) == polynomial)
+      return;
     r_ = Vectors("dvisph::pcg::r", n, k);
     z_ = Vectors("dvisph::pcg::z", n, k);
     p_ = Vectors("dvisph::pcg::p", n, k);
     q_ = Vectors("dvisph::pcg::q", n, k);
+    s_ = polynomial ? Vectors("dvisph::pcg::chebyshev_residual", n, k) : Vectors();
+    d_ = polynomial ? Vectors("dvisph::pcg::chebyshev_step", n, k) : Vectors();
+  }
+
+  // z = p(D^-1 A) D^-1 r, the Chebyshev preconditioner (q is scratch); returns r.z.
+  template <class Operator>
+  ColumnSums precondition(const Operator& A, const Diagonal& diag, const Vectors& r,
+                          const Vectors& z, const Vectors& q, int n) const {
+    const int K = static_cast<int>(r.extent(1));
+    const auto range = Kokkos::RangePolicy<Space>(0, n);
+    const auto s = s_, d = d_;
+    const Real hi = 2, lo = hi / ratio_, theta = (hi + lo) / 2, delta = (hi - lo) / 2;
+    const Real sigma = theta / delta;
+    Kokkos::parallel_for(
+        "dvisph::pcg::chebyshev_start", range, KOKKOS_LAMBDA(int i) {
+          const Real inv_d = diag(i) > 0 ? 1 / diag(i) : 0;
+          for (int k = 0; k < K; ++k) {
+            s(i, k) = r(i, k);
+            d(i, k) = inv_d * r(i, k) / theta;
+            z(i, k) = d(i, k);
+          }
+        });
+    // the last step also sums r.z, so an iteration keeps Jacobi's two reductions
+    Real rho = 1 / sigma;
+    ColumnSums rz;
+    for (int step = 1; step < degree_; ++step) {
+      A.apply(d, q, diag, n);
+      const Real rho_new = 1 / (2 * sigma - rho), keep = rho_new * rho, push = 2 * rho_new / delta;
+      rho = rho_new;
+      if (step < degree_ - 1)
+        Kokkos::parallel_for(
+            "dvisph::pcg::chebyshev_step", range,
+            KOKKOS_LAMBDA(int i) { chebyshev_row(i, K, keep, push, diag, q, s, d, z); });
+      else
+        Kokkos::parallel_reduce(
+            "dvisph::pcg::chebyshev_last_step", range,
+            KOKKOS_LAMBDA(int i, ColumnSums& sum) {
+              chebyshev_row(i, K, keep, push, diag, q, s, d, z);
+              for (int k = 0; k < K; ++k) sum.v[k] += r(i, k) * z(i, k);
+            },
+            rz);
+    }
+    return rz;
+  }
+
+  // One Chebyshev step at row i: s -= A d (in q), d = keep d + push D^-1 s, z += d.
+  KOKKOS_INLINE_FUNCTION static void chebyshev_row(int i, int K, Real keep, Real push,
+                                                   const Diagonal& diag, const Vectors& q,
+                                                   const Vectors& s, const Vectors& d,
+                                                   const Vectors& z) {
+    const Real inv_d = diag(i) > 0 ? 1 / diag(i) : 0;
+    for (int k = 0; k < K; ++k) {
+      s(i, k) -= q(i, k);
+      d(i, k) = keep * d(i, k) + push * inv_d * s(i, k);
+      z(i, k) += d(i, k);
+    }
   }
 
   // Solves A x = b for every column of b (n x K, K <= max_rhs); x holds the initial
@@ -95,6 +166,10 @@ class ConjugateGradient {
     ColumnSums rz, bb, rr;
     for (int k = 0; k < K; ++k)
       rz.v[k] = init.v[k], bb.v[k] = init.v[max_rhs + k], rr.v[k] = init.v[2 * max_rhs + k];
+    if (degree_ > 1) {
+      rz = precondition(A, diag, r, z, q, n);
+      Kokkos::deep_copy(p, z);
+    }
 
     CgResult result;
     Real norm_b[max_rhs], res[max_rhs], worst[max_rhs];
@@ -141,6 +216,7 @@ class ConjugateGradient {
       ColumnSums rz_new;
       for (int k = 0; k < K; ++k)
         rz_new.v[k] = update.v[k], rr.v[k] = update.v[max_rhs + k], worst[k] = update.m[k];
+      if (degree_ > 1 && !all_done()) rz_new = precondition(A, diag, r, z, q, n);
       ColumnSums beta;
       for (int k = 0; k < K; ++k) beta.v[k] = rz.v[k] > 0 ? rz_new.v[k] / rz.v[k] : 0;
       rz = rz_new;
@@ -160,10 +236,13 @@ class ConjugateGradient {
     return result;
   }
 
-  std::size_t bytes() const { return view_bytes(r_, z_, p_, q_); }
+  std::size_t bytes() const { return view_bytes(r_, z_, p_, q_, s_, d_); }
 
  private:
   Vectors r_, z_, p_, q_;
+  Vectors s_, d_;  // the Chebyshev preconditioner's residual and step
+  int degree_ = 1;
+  Real ratio_ = 30;
 };
 
 }  // namespace dvisph

@@ -550,6 +550,9 @@ Scene parse_scene(const std::string& yaml_text, const std::vector<std::string>& 
   s.cg_tolerance = r.number("numerics.cg_tolerance");
   s.cg_density_tolerance = r.number("numerics.cg_density_tolerance");
   s.cg_max_iterations = r.integer("numerics.cg_max_iterations");
+  s.cg_preconditioner = r.text("numerics.cg_preconditioner");
+  s.chebyshev_degree = r.integer("numerics.chebyshev_degree");
+  s.chebyshev_ratio = r.number("numerics.chebyshev_ratio");
   s.pressure_operator = r.text("numerics.pressure_operator");
   s.surface_criterion = r.text("numerics.surface_criterion");
   s.invariance_truncation[0] = r.number("numerics.invariance_truncation_full");

@@ -76,6 +76,9 @@ struct Scene {
   double h_over_dx = 1.5, gamma = 0.1, cfl = 0.25, dt_max = 1e-3, cg_tolerance = 1e-8, cg_density_tolerance = 1e-6;
   double alpha = 0.1, beta = 0.1;  // numerics.alpha / beta, each numerics.gamma unless given
   int cg_max_iterations = 2000;
+  std::string cg_preconditioner = "jacobi";
+  int chebyshev_degree = 3;
+  double chebyshev_ratio = 30;
   std::string pressure_operator = "stored";
   std::string surface_criterion = "position_divergence";
   double surface_divergence_threshold = 0.75, surface_density_threshold = 0.95;

@@ -217,6 +217,15 @@ Field make_schema() {
                          "CG also stops once its residual leaves no particle a density change "
                          "per step above this (dt^2 |r_i| / rho0; 0: off)"),
                   integer("cg_max_iterations", "2000", 1, 1e6, "CG iteration cap"),
+                  choice("cg_preconditioner", "jacobi", {"jacobi", "chebyshev"},
+                         "CG's preconditioner: the diagonal, or a Chebyshev polynomial in it "
+                         "(chebyshev_degree - 1 more matrix applications per iteration, fewer "
+                         "iterations; docs/isph.md)"),
+                  integer("chebyshev_degree", "3", 2, 32,
+                          "degree of the Chebyshev preconditioner"),
+                  number("chebyshev_ratio", "", "30", 1.5, 1e6,
+                         "the Chebyshev preconditioner approximates the inverse on "
+                         "eigenvalues of D^-1 A in [2 / ratio, 2]"),
                   choice("pressure_operator", "stored", {"stored", "matrix_free"},
                          "how CG applies the PPE matrix: coefficients stored once per step "
                          "(fast, 12 bytes per neighbour pair) or recomputed from the neighbour "

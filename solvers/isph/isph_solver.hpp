@@ -79,6 +79,7 @@ class IsphSolver {
     gamma_[0] = s.alpha;
     gamma_[1] = s.beta;
     nrhs_ = s.alpha == s.beta ? 1 : 2;
+    if (s.cg_preconditioner == "chebyshev") cg_.chebyshev(s.chebyshev_degree, s.chebyshev_ratio);
 
     p_ = Particles<D, Space>(n_, "sph");
     copy_points<D>(init.x, p_.x);
