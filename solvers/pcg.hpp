@@ -80,8 +80,9 @@ class ConjugateGradient {
   // z = p(D^-1 A) D^-1 r, the Chebyshev preconditioner (q is scratch); returns r.z.
   template <class Operator>
   ColumnSums precondition(const Operator& A, const Diagonal& diag, const Vectors& r,
-                          const Vectors& z, const Vectors& q, int n) const {
+                          const Vectors& z, const Vectors& q, int n) {
     const int K = static_cast<int>(r.extent(1));
+    resize(static_cast<int>(r.extent(0)), K);
     const auto range = Kokkos::RangePolicy<Space>(0, n);
     const auto s = s_, d = d_;
     const Real hi = 2, lo = hi / ratio_, theta = (hi + lo) / 2, delta = (hi - lo) / 2;
