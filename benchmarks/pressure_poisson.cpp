@@ -274,38 +274,27 @@ bench::Record run(long target_n, const Options& opt, double triad) {
       },
       solve_repeats);
   Kokkos::Profiling::popRegion();
-  Kokkos::Profiling::pushRegion("dvisph::bench::ppe::solve_csr");
-  const auto t_csr = bench::time_it<Space>(
-      [&] {
-        copy_column<Space>(b1, b, 0, n);
-        copy_column<Space>(p1, guess, 0, n);
-        stored = cg1.solve(csr, diag, b1, p1, n, cg_tolerance, cg_max_iterations);
-      },
-      solve_repeats);
-  Kokkos::Profiling::popRegion();
+  // column 0 alone, solved by `cg` with `op`, timed under a profiling region
+  const auto time_column0 = [&](const char* region, auto& cg, const auto& op, CgResult& out) {
+    Kokkos::Profiling::pushRegion(region);
+    const auto t = bench::time_it<Space>(
+        [&] {
+          copy_column<Space>(b1, b, 0, n);
+          copy_column<Space>(p1, guess, 0, n);
+          out = cg.solve(op, diag, b1, p1, n, cg_tolerance, cg_max_iterations);
+        },
+        solve_repeats);
+    Kokkos::Profiling::popRegion();
+    return t;
+  };
+  const auto t_csr = time_column0("dvisph::bench::ppe::solve_csr", cg1, csr, stored);
   // the same stored solve with the Chebyshev preconditioner (numerics.cg_preconditioner)
   ConjugateGradient<Space> cg_cheb;
   cg_cheb.chebyshev(3, 30);
   CgResult chebyshev;
-  Kokkos::Profiling::pushRegion("dvisph::bench::ppe::solve_csr_chebyshev3");
-  const auto t_cheb = bench::time_it<Space>(
-      [&] {
-        copy_column<Space>(b1, b, 0, n);
-        copy_column<Space>(p1, guess, 0, n);
-        chebyshev = cg_cheb.solve(csr, diag, b1, p1, n, cg_tolerance, cg_max_iterations);
-      },
-      solve_repeats);
-  Kokkos::Profiling::popRegion();
+  const auto t_cheb = time_column0("dvisph::bench::ppe::solve_csr_chebyshev3", cg_cheb, csr, chebyshev);
   // the single solve of column 0 alone, for the comparison with Eigen
-  Kokkos::Profiling::pushRegion("dvisph::bench::ppe::solve_single");
-  const auto t_one = bench::time_it<Space>(
-      [&] {
-        copy_column<Space>(b1, b, 0, n);
-        copy_column<Space>(p1, guess, 0, n);
-        single[0] = cg1.solve(ppe_list, diag, b1, p1, n, cg_tolerance, cg_max_iterations);
-      },
-      solve_repeats);
-  Kokkos::Profiling::popRegion();
+  const auto t_one = time_column0("dvisph::bench::ppe::solve_single", cg1, ppe_list, single[0]);
 
   // Eigen: the same matrix (from the stored coefficients) over the unknown rows
   auto h_offsets = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), csr.offsets());

@@ -53,15 +53,10 @@ if [ -z "${Kokkos_ROOT:-}" ]; then
     wrapper="$cache/nvcc_wrapper-$sm"
     sed "s/^default_arch=.*/default_arch=\"$sm\"/" "$KOKKOS_SRC/bin/nvcc_wrapper" >"$wrapper"
     chmod +x "$wrapper"
-    cmake -S "$KOKKOS_SRC" -B "$cache/kokkos-cuda-build" -DCMAKE_BUILD_TYPE=Release \
-      -DCMAKE_CXX_COMPILER="$wrapper" -DCMAKE_CXX_STANDARD=17 \
-      -DCMAKE_INSTALL_PREFIX="$Kokkos_ROOT" -DKokkos_ENABLE_CUDA=ON -DKokkos_ENABLE_SERIAL=ON \
-      -DKokkos_ARCH_"$arch"=ON -DKokkos_ENABLE_TESTS=OFF >&2
-    cmake --build "$cache/kokkos-cuda-build" -j"$jobs" >&2
-    cmake --install "$cache/kokkos-cuda-build" >&2
+    bash scripts/kokkos_install.sh "$Kokkos_ROOT" "$KOKKOS_SRC" \
+      -DCMAKE_CXX_COMPILER="$wrapper" -DKokkos_ENABLE_CUDA=ON -DKokkos_ENABLE_SERIAL=ON \
+      -DKokkos_ARCH_"$arch"=ON
     cp "$wrapper" "$Kokkos_ROOT/bin/nvcc_wrapper"
-    touch "$Kokkos_ROOT/.complete"
-    rm -rf "$cache/kokkos-cuda-build"
   fi
 fi
 

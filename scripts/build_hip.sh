@@ -28,14 +28,9 @@ if [ -z "${Kokkos_ROOT:-}" ]; then
   if [ ! -f "$Kokkos_ROOT/.complete" ]; then
     src=$(bash scripts/kokkos_source.sh)
     log "building Kokkos (HIP, $arch) into $Kokkos_ROOT"
-    cmake -S "$src" -B "$cache/kokkos-hip-build" -DCMAKE_BUILD_TYPE=Release \
-      -DCMAKE_CXX_COMPILER=hipcc -DCMAKE_CXX_STANDARD=17 -DCMAKE_INSTALL_PREFIX="$Kokkos_ROOT" \
-      -DKokkos_ENABLE_HIP=ON -DKokkos_ENABLE_SERIAL=ON -DKokkos_ARCH_"$arch"=ON \
-      -DKokkos_ENABLE_TESTS=OFF -DBUILD_SHARED_LIBS=OFF >&2
-    cmake --build "$cache/kokkos-hip-build" -j"$jobs" >&2
-    cmake --install "$cache/kokkos-hip-build" >&2
-    touch "$Kokkos_ROOT/.complete"
-    rm -rf "$cache/kokkos-hip-build"
+    bash scripts/kokkos_install.sh "$Kokkos_ROOT" "$src" \
+      -DCMAKE_CXX_COMPILER=hipcc -DKokkos_ENABLE_HIP=ON -DKokkos_ENABLE_SERIAL=ON \
+      -DKokkos_ARCH_"$arch"=ON -DBUILD_SHARED_LIBS=OFF
   fi
 fi
 

@@ -3,7 +3,7 @@
 # (bookworm), downloading and extracting them once into $DVISPH_CACHE/kokkos-src
 # (default ~/.cache/dvisph). If apt knows no source for trilinos, deb-src entries are
 # derived from this machine's own bookworm `deb` entries. Used by scripts/setup.sh
-# (Serial + OpenMP) and scripts/build_hip.sh (HIP).
+# (Serial + OpenMP) and scripts/build_hip.sh (HIP); scripts/kokkos_install.sh builds them.
 set -euo pipefail
 
 log() { echo "[kokkos-source] $*" >&2; }

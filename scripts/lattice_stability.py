@@ -14,18 +14,10 @@ Usage: scripts/lattice_stability.py  (prints one line per case; a few seconds)
 """
 import numpy as np
 
+from wendland import d2W, dW
+
 RHO = 1000.0  # kg/m^3
 G = 9.81      # m/s^2
-
-
-def wendland_c2_derivatives(r, h, dim):
-    """dW/dr and d2W/dr2 of the Wendland C2 kernel, support 2h (kernels/wendland_c2.hpp)."""
-    q = r / h
-    if q >= 2:
-        return 0.0, 0.0
-    sigma = (7 / (4 * np.pi) if dim == 2 else 21 / (16 * np.pi)) / h ** dim
-    t = 1 - q / 2
-    return sigma * (-5 * q * t ** 3) / h, sigma * (-5 * t ** 3 + 7.5 * q * t ** 2) / h ** 2
 
 
 def lattice(name, dx):
@@ -55,7 +47,7 @@ def most_unstable(basis, h, pressure, nk):
     hessians = []
     for R in neighbours:
         r = np.linalg.norm(R)
-        d1, d2 = wendland_c2_derivatives(r, h, dim)
+        d1, d2 = dW(r, h, dim), d2W(r, h, dim)
         n = R / r
         hessians.append(d2 * np.outer(n, n) + d1 / r * (np.eye(dim) - np.outer(n, n)))
     scale = 2 * pressure * abs(np.linalg.det(basis)) / RHO

@@ -15,11 +15,7 @@ much the same sums scatter on a jittered lattice (the invariance weight reads di
 Usage: scripts/ppe_symbols.py"""
 import numpy as np
 
-
-def dW(r, h, D):
-    q = r / h
-    a = 7 / (4 * np.pi * h * h) if D == 2 else 21 / (16 * np.pi * h ** 3)
-    return np.where(q < 2, a * (-5 * q * (1 - q / 2) ** 3) / h, 0)
+from wendland import W, dW
 
 
 def lattice(D, h):
@@ -57,12 +53,9 @@ for D in (2, 3):
 
     def sums(p):
         r = np.linalg.norm(p, axis=1)
-        q = r / h
-        a = 7 / (4 * np.pi * h * h) if D == 2 else 21 / (16 * np.pi * h ** 3)
-        W = np.where(q < 2, a * (1 - q / 2) ** 4 * (2 * q + 1), 0)
         div_r = -dW(r, h, D) * r
         lap = np.where(r > 0, -2 * dW(r, h, D) * r / (r * r + 0.01 * h * h), 0)
-        return np.array([W.sum(), div_r.sum(), lap.sum()])
+        return np.array([W(r, h, D).sum(), div_r.sum(), lap.sum()])
 
     full = sums(m)
     for layer in (0, 1):

@@ -47,11 +47,7 @@ fi
 src=$(bash "$(dirname "$0")/kokkos_source.sh")
 version=$(grep -E 'set\(Kokkos_VERSION_(MAJOR|MINOR|PATCH)' "$src/CMakeLists.txt" | grep -oE '[0-9]+\)' | tr -d ')' | paste -sd.)
 log "building Kokkos $version (Serial + OpenMP) into $prefix"
-cmake -S "$src" -B "$cache/kokkos-build" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_STANDARD=17 \
-  -DCMAKE_INSTALL_PREFIX="$prefix" -DKokkos_ENABLE_SERIAL=ON -DKokkos_ENABLE_OPENMP=ON \
-  -DKokkos_ENABLE_TESTS=OFF -DBUILD_SHARED_LIBS=OFF -DCMAKE_POSITION_INDEPENDENT_CODE=ON >&2
-cmake --build "$cache/kokkos-build" -j"$(nproc)" >&2
-cmake --install "$cache/kokkos-build" >&2
-touch "$prefix/.complete"
-rm -rf "$cache/kokkos-build"
+bash "$(dirname "$0")/kokkos_install.sh" "$prefix" "$src" \
+  -DKokkos_ENABLE_SERIAL=ON -DKokkos_ENABLE_OPENMP=ON -DBUILD_SHARED_LIBS=OFF \
+  -DCMAKE_POSITION_INDEPENDENT_CODE=ON
 echo "$prefix"

@@ -19,6 +19,7 @@ import subprocess
 
 import h5py
 import numpy as np
+import yaml
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DVISPH = os.path.join(ROOT, "build", "dvisph")
@@ -57,15 +58,9 @@ EVERY = 0.1      # s between snapshots
 
 def scene_without(path, blocks, dest):
     """The scene at `path` with its top-level `blocks` left out, written to `dest`."""
-    keep, skipping = [], False
-    for line in open(path):
-        top = line[:1] not in (" ", "#", "\n") and ":" in line
-        if top:
-            skipping = line.split(":")[0] in blocks
-        if not skipping:
-            keep.append(line)
+    scene = {k: v for k, v in yaml.safe_load(open(path)).items() if k not in blocks}
     with open(dest, "w") as f:
-        f.writelines(keep)
+        yaml.safe_dump(scene, f, sort_keys=False)
     return dest
 
 

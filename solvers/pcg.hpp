@@ -217,15 +217,15 @@ class ConjugateGradient {
       ColumnSums rz_new;
       for (int k = 0; k < K; ++k)
         rz_new.v[k] = update.v[k], rr.v[k] = update.v[max_rhs + k], worst[k] = update.m[k];
-      if (degree_ > 1 && !all_done()) rz_new = precondition(A, diag, r, z, q, n);
-      ColumnSums beta;
-      for (int k = 0; k < K; ++k) beta.v[k] = rz.v[k] > 0 ? rz_new.v[k] / rz.v[k] : 0;
-      rz = rz_new;
       done = all_done();
       if (done) {
         ++it;
         break;
       }
+      if (degree_ > 1) rz_new = precondition(A, diag, r, z, q, n);
+      ColumnSums beta;
+      for (int k = 0; k < K; ++k) beta.v[k] = rz.v[k] > 0 ? rz_new.v[k] / rz.v[k] : 0;
+      rz = rz_new;
       Kokkos::parallel_for(
           "dvisph::pcg::direction", range, KOKKOS_LAMBDA(int i) {
             for (int k = 0; k < K; ++k) p(i, k) = z(i, k) + beta.v[k] * p(i, k);
