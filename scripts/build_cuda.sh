@@ -62,6 +62,12 @@ fi
 
 log "building dvisph for CUDA ($arch) in build-cuda/"
 start=$(date +%s)
+# configured before with another compiler (another Kokkos), CMake would wipe the cache
+# and the -D values below with it: start that directory's configuration afresh
+compiler=$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' build-cuda/CMakeCache.txt 2>/dev/null || true)
+if [ -n "$compiler" ] && [ "$compiler" != "$Kokkos_ROOT/bin/nvcc_wrapper" ]; then
+  rm -rf build-cuda/CMakeCache.txt build-cuda/CMakeFiles
+fi
 cmake -S . -B build-cuda -DCMAKE_BUILD_TYPE=Release -DKokkos_ROOT="$Kokkos_ROOT" \
   -DCMAKE_CXX_COMPILER="$Kokkos_ROOT/bin/nvcc_wrapper" >&2
 cmake --build build-cuda -j"$jobs" >&2
