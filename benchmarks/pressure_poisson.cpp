@@ -24,6 +24,7 @@
 #include "kernels/wendland_c2.hpp"
 #include "solvers/isph/predictor.hpp"
 #include "solvers/isph/free_surface.hpp"
+#include "solvers/cell_multigrid.hpp"
 #include "solvers/isph/poisson_matrix.hpp"
 #include "src/core/neighbor_list.hpp"
 #include "src/core/reorder.hpp"
@@ -275,13 +276,14 @@ bench::Record run(long target_n, const Options& opt, double triad) {
       solve_repeats);
   Kokkos::Profiling::popRegion();
   // column 0 alone, solved by `cg` with `op`, timed under a profiling region
-  const auto time_column0 = [&](const char* region, auto& cg, const auto& op, CgResult& out) {
+  const auto time_column0 = [&](const char* region, auto& cg, const auto& op, CgResult& out,
+                                Preconditioner<Space>* m = nullptr) {
     Kokkos::Profiling::pushRegion(region);
     const auto t = bench::time_it<Space>(
         [&] {
           copy_column<Space>(b1, b, 0, n);
           copy_column<Space>(p1, guess, 0, n);
-          out = cg.solve(op, diag, b1, p1, n, cg_tolerance, cg_max_iterations);
+          out = cg.solve(op, diag, b1, p1, n, cg_tolerance, cg_max_iterations, 0, m);
         },
         solve_repeats);
     Kokkos::Profiling::popRegion();
@@ -293,6 +295,11 @@ bench::Record run(long target_n, const Options& opt, double triad) {
   cg_cheb.chebyshev(3, 30);
   CgResult chebyshev;
   const auto t_cheb = time_column0("dvisph::bench::ppe::solve_csr_chebyshev3", cg_cheb, csr, chebyshev);
+  // and with the cell multigrid (numerics.cg_preconditioner: multigrid), its set-up apart
+  CellMultigrid<D, Space> multigrid(init.domain_lo, init.domain_hi, 0, dx, kernel.radius(), 10, 4);
+  const auto t_mg_build = bench::time_it<Space>([&] { multigrid.build(csr, diag, x, n, 1); }, solve_repeats);
+  CgResult mg;
+  const auto t_mg = time_column0("dvisph::bench::ppe::solve_csr_multigrid", cg1, csr, mg, &multigrid);
   // the single solve of column 0 alone, for the comparison with Eigen
   const auto t_one = time_column0("dvisph::bench::ppe::solve_single", cg1, ppe_list, single[0]);
 
@@ -350,6 +357,10 @@ bench::Record run(long target_n, const Options& opt, double triad) {
       .add("solve_csr_iterations", stored.iterations)
       .add("solve_csr_chebyshev3_s", t_cheb.median_s, 4)
       .add("solve_csr_chebyshev3_iterations", chebyshev.iterations)
+      .add("solve_csr_multigrid_s", t_mg.median_s, 4)
+      .add("solve_csr_multigrid_iterations", mg.iterations)
+      .add("multigrid_build_s", t_mg_build.median_s, 4)
+      .add("multigrid_levels", multigrid.levels())
       .add("eigen_s", t_eigen.median_s, 4)
       .add("eigen_iterations", static_cast<long>(eigen_cg.iterations()))
       .add("eigen_threads", eigen_threads)
@@ -357,10 +368,11 @@ bench::Record run(long target_n, const Options& opt, double triad) {
       .add_significant("eigen_max_relative_difference", diff / scale, 3);
   fmt::print(stderr,
              "  solve: two rhs {:.3f} s ({} it), two singles {:.3f} s ({} + {} it), csr {:.3f} s "
-             "({} it; Chebyshev 3: {:.3f} s, {} it), Eigen {:.3f} s ({} it) = {:.2f} x ours ({:.3f} s)\n",
+             "({} it; Chebyshev 3: {:.3f} s, {} it; multigrid {:.3f} s, {} it, {} levels, set-up {:.3f} s), "
+             "Eigen {:.3f} s ({} it) = {:.2f} x ours ({:.3f} s)\n",
              t_two.median_s, two.iterations, t_singles.median_s, single[0].iterations,
              single[1].iterations, t_csr.median_s, stored.iterations, t_cheb.median_s,
-             chebyshev.iterations, t_eigen.median_s, eigen_cg.iterations(),
+             chebyshev.iterations, t_mg.median_s, mg.iterations, multigrid.levels(), t_mg_build.median_s, t_eigen.median_s, eigen_cg.iterations(),
              t_eigen.median_s / t_one.median_s, t_one.median_s);
   return r;
 }

@@ -13,6 +13,7 @@
 // of D^-1 A lie in (0, 2] for any matrix whose diagonal is at least the sum of its row's
 // off-diagonal magnitudes (Gershgorin), as the PPE's is; p(lambda) > 0 on (0, 2 + 2/ratio),
 // so the preconditioner is SPD whatever the true spectrum, and fixed, as CG needs.
+// Or any other SPD Preconditioner passed to solve (solvers/cell_multigrid.hpp).
 #include "src/core/types.hpp"
 
 #include <cmath>
@@ -49,6 +50,16 @@ struct CgResult {
   Real residual[max_rhs] = {};      // final relative residuals
   Real max_residual[max_rhs] = {};  // final max |r_i|
   bool converged = false;
+};
+
+// Another preconditioner than the built-in ones (e.g. solvers/cell_multigrid.hpp):
+// z = M^-1 r on the first n rows (q is scratch), returning r.z per column; M must be
+// symmetric positive definite and the same at every iteration.
+template <class Space>
+struct Preconditioner {
+  using Vectors = Kokkos::View<Real**, typename Space::memory_space>;
+  virtual ~Preconditioner() = default;
+  virtual ColumnSums apply(const Vectors& r, const Vectors& z, const Vectors& q, int n) = 0;
 };
 
 template <class Space>
@@ -136,12 +147,14 @@ class ConjugateGradient {
   // guess. `A.apply(p, q, diag, n)` computes q = A p; rows whose diag is zero are
   // inactive (their x, b stay zero). A column stops when its residual relative to |b|
   // is below `tolerance` or its largest |r_i| below `max_tolerance` (0: that test is
-  // off). Returns iterations and the final residuals.
+  // off). Returns iterations and the final residuals. `m`, where given, replaces the
+  // Jacobi or Chebyshev preconditioner.
   // (An operator object, not a closure: nvcc's device lambdas may not sit in a
   // function templated on a function-local type.)
   template <class Operator>
   CgResult solve(const Operator& A, const Diagonal& diag, const Vectors& b, const Vectors& x,
-                 int n, Real tolerance, int max_iterations, Real max_tolerance = 0) {
+                 int n, Real tolerance, int max_iterations, Real max_tolerance = 0,
+                 Preconditioner<Space>* m = nullptr) {
     const int K = static_cast<int>(b.extent(1));
     resize(static_cast<int>(b.extent(0)), K);
     auto r = r_, z = z_, p = p_, q = q_;
@@ -167,8 +180,8 @@ class ConjugateGradient {
     ColumnSums rz, bb, rr;
     for (int k = 0; k < K; ++k)
       rz.v[k] = init.v[k], bb.v[k] = init.v[max_rhs + k], rr.v[k] = init.v[2 * max_rhs + k];
-    if (degree_ > 1) {
-      rz = precondition(A, diag, r, z, q, n);
+    if (m || degree_ > 1) {
+      rz = m ? m->apply(r, z, q, n) : precondition(A, diag, r, z, q, n);
       Kokkos::deep_copy(p, z);
     }
 
@@ -222,7 +235,8 @@ class ConjugateGradient {
         ++it;
         break;
       }
-      if (degree_ > 1) rz_new = precondition(A, diag, r, z, q, n);
+      if (m) rz_new = m->apply(r, z, q, n);
+      else if (degree_ > 1) rz_new = precondition(A, diag, r, z, q, n);
       ColumnSums beta;
       for (int k = 0; k < K; ++k) beta.v[k] = rz.v[k] > 0 ? rz_new.v[k] / rz.v[k] : 0;
       rz = rz_new;

@@ -17,6 +17,7 @@
 #include "solvers/isph/roles.hpp"
 #include "solvers/isph/settle_damping.hpp"
 #include "solvers/isph/wet_cells.hpp"
+#include "solvers/cell_multigrid.hpp"
 #include "solvers/pcg.hpp"
 #include "src/core/neighbor_list.hpp"
 #include "src/numerical_error.hpp"
@@ -28,6 +29,7 @@
 #include <fmt/format.h>
 
 #include <functional>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -80,6 +82,9 @@ class IsphSolver {
     gamma_[1] = s.beta;
     nrhs_ = s.alpha == s.beta ? 1 : 2;
     if (s.cg_preconditioner == "chebyshev") cg_.chebyshev(s.chebyshev_degree, s.chebyshev_ratio);
+    if (s.cg_preconditioner == "multigrid")
+      multigrid_ = std::make_unique<CellMultigrid<D, Space>>(
+          domain_lo_, domain_hi_, s.periodic, s.spacing, kernel_.radius(), multigrid_levels, 4);
 
     p_ = Particles<D, Space>(n_, "sph");
     copy_points<D>(init.x, p_.x);
@@ -156,7 +161,7 @@ class IsphSolver {
     return view_bytes(p_.x, p_.v, p_.m, p_.kind, p_.id, pressure_, rhs_, rho_, invariance_,
                       truncation_, diag_, role_, vstar_, vt_, kind_scratch_, id_scratch_) +
            cells_.bytes() + wet_cells_.bytes() + list_.bytes() + matrix_.bytes() + cg_.bytes() +
-           coupling_bytes();
+           (multigrid_ ? multigrid_->bytes() : 0) + coupling_bytes();
   }
   const Scene& scene() const { return scene_; }
 
@@ -264,8 +269,9 @@ class IsphSolver {
     CgResult result;
     if (store_matrix_) {
       matrix_.build(ppe, n_);
+      if (multigrid_) multigrid_->build(matrix_, diag_, p_.x, n_, nrhs_);
       result = cg_.solve(matrix_, diag_, rhs_, pressure_, n_, scene_.cg_tolerance,
-                         scene_.cg_max_iterations, max_tolerance);
+                         scene_.cg_max_iterations, max_tolerance, multigrid_.get());
     } else {
       result = cg_.solve(ppe, diag_, rhs_, pressure_, n_, scene_.cg_tolerance,
                          scene_.cg_max_iterations, max_tolerance);
@@ -441,6 +447,8 @@ class IsphSolver {
   NeighborList<D, Space> list_;
   PoissonMatrix<Space> matrix_;  // only filled when the scene stores the PPE matrix
   ConjugateGradient<Space> cg_;
+  std::unique_ptr<CellMultigrid<D, Space>> multigrid_;  // numerics.cg_preconditioner: multigrid
+  static constexpr int multigrid_levels = 10;
   std::vector<Stage> stages_;
   StepInfo info_;
 };
