@@ -296,7 +296,7 @@ bench::Record run(long target_n, const Options& opt, double triad) {
   CgResult chebyshev;
   const auto t_cheb = time_column0("dvisph::bench::ppe::solve_csr_chebyshev3", cg_cheb, csr, chebyshev);
   // and with the cell multigrid (numerics.cg_preconditioner: multigrid), its set-up apart
-  CellMultigrid<D, Space> multigrid(init.domain_lo, init.domain_hi, 0, dx, kernel.radius(), 10, 4);
+  CellMultigrid<D, Space> multigrid(init.domain_lo, init.domain_hi, 0, dx, kernel.radius());
   const auto t_mg_build = bench::time_it<Space>([&] { multigrid.build(csr, diag, x, n, 1); }, solve_repeats);
   CgResult mg;
   const auto t_mg = time_column0("dvisph::bench::ppe::solve_csr_multigrid", cg1, csr, mg, &multigrid);

@@ -1,9 +1,9 @@
 #pragma once
 // A multilevel preconditioner for the stored PPE matrix: aggregation on the cells of a
 // grid. Level 1 aggregates the unknowns by the grid cell they lie in, max(4 dx, kernel
-// radius) wide (4^D lattice sites: on the 3D dam break, 2 dx cells took 10.3 CG
-// iterations a step and 4 dx 11.6, at less set-up); each coarser level aggregates 2^D
-// cells of the one below. A coarse operator is the Galerkin product P^T A P of the
+// radius) wide (4^D lattice sites; in a trial build on the 3D dam break, 2 dx cells
+// took 10.3 CG iterations a step against 11.6, at more set-up); each coarser level
+// aggregates 2^D cells of the one below. A coarse operator is the Galerkin product P^T A P of the
 // piecewise-constant aggregation P; a row couples only the cells next to it (its
 // stencil, s = 1). One application is a symmetric V-cycle: one damped
 // Jacobi sweep before and one after the coarse correction on every level, a few sweeps
@@ -73,6 +73,21 @@ struct StencilGrid {
     }
     return o;
   }
+  // f(index, coordinates) of each cell of `fine` (the level below) that cell c of this
+  // level aggregates: 2^D, fewer at the grid's far edges.
+  template <class F>
+  KOKKOS_INLINE_FUNCTION void for_each_child(int c, const StencilGrid& fine, F&& f) const {
+    int x[D], child[D];
+    coords(c, x);
+    for (int b = 0; b < (1 << D); ++b) {
+      bool inside = true;
+      for (int k = 0; k < D; ++k) {
+        child[k] = 2 * x[k] + ((b >> k) & 1);
+        inside = inside && child[k] < fine.n[k];
+      }
+      if (inside) f(fine.index(child), child);
+    }
+  }
   // The next level: 2^D cells in one, stencil half-width (s + 1) / 2.
   StencilGrid coarser() const {
     StencilGrid c = *this;
@@ -105,7 +120,7 @@ class CellMultigrid final : public Preconditioner<Space> {
   // where axis k wraps), for a matrix whose couplings reach `radius`; up to max_levels
   // levels, `coarsest_sweeps` Jacobi sweeps on the last.
   CellMultigrid(const Vec<D>& box_lo, const Vec<D>& box_hi, unsigned periodic_axes, Real dx,
-                Real radius, int max_levels, int coarsest_sweeps)
+                Real radius, int max_levels = 10, int coarsest_sweeps = 4)
       : cells_(Grid<D>(box_lo, box_hi, std::max(4 * dx, radius), periodic_axes)),
         max_levels_(max_levels),
         coarsest_sweeps_(coarsest_sweeps) {
@@ -252,30 +267,15 @@ class CellMultigrid final : public Preconditioner<Space> {
     Diagonal diag;
     Kokkos::View<int, memory_space> status;
     KOKKOS_INLINE_FUNCTION bool empty(int c) const {
-      int x[D], child[D];
-      grid.coords(c, x);
-      for (int b = 0; b < (1 << D); ++b) {
-        bool inside = true;
-        for (int k = 0; k < D; ++k) {
-          child[k] = 2 * x[k] + ((b >> k) & 1);
-          inside = inside && child[k] < fine.n[k];
-        }
-        if (inside && diag(fine.index(child)) != 0) return false;
-      }
-      return true;
+      bool none = true;
+      grid.for_each_child(c, fine, [&](int i, const int(&)[D]) { none = none && diag(i) == 0; });
+      return none;
     }
     template <class F>
     KOKKOS_INLINE_FUNCTION void operator()(int c, F&& f) const {
-      int x[D], child[D], y[D];
+      int x[D], y[D];
       grid.coords(c, x);
-      for (int b = 0; b < (1 << D); ++b) {
-        bool inside = true;
-        for (int k = 0; k < D; ++k) {
-          child[k] = 2 * x[k] + ((b >> k) & 1);
-          inside = inside && child[k] < fine.n[k];
-        }
-        if (!inside) continue;
-        const int i = fine.index(child);
+      grid.for_each_child(c, fine, [&](int i, const int(&)[D]) {
         if (diag(i) != 0) f(grid.center(), diag(i));
         for (int e = rows(i); e < rows(i + 1); ++e) {
           fine.coords(columns(e), y);
@@ -284,7 +284,7 @@ class CellMultigrid final : public Preconditioner<Space> {
           if (o < 0) status() = 1;
           else f(o, values(e));
         }
-      }
+      });
     }
   };
 
@@ -426,19 +426,10 @@ class CellMultigrid final : public Preconditioner<Space> {
       Kokkos::parallel_for(
           "dvisph::multigrid::restrict", Kokkos::RangePolicy<Space>(0, C.grid.size()),
           KOKKOS_LAMBDA(int c) {
-            int x[D], child[D];
-            coarse.grid.coords(c, x);
             Real sum[max_rhs] = {};
-            for (int b = 0; b < (1 << D); ++b) {
-              bool inside = true;
-              for (int k = 0; k < D; ++k) {
-                child[k] = 2 * x[k] + ((b >> k) & 1);
-                inside = inside && child[k] < view.grid.n[k];
-              }
-              if (!inside) continue;
-              const int f = view.grid.index(child);
+            coarse.grid.for_each_child(c, view.grid, [&](int f, const int(&)[D]) {
               for (int k = 0; k < K; ++k) sum[k] += view.t(f, k);
-            }
+            });
             for (int k = 0; k < K; ++k) coarse.r(c, k) = sum[k];
           });
     }

@@ -224,70 +224,55 @@ geometry:
   const auto shorter = cg.solve(matrix, diag, b, p_short, n, 1e-14, loose.iterations - 1, limit);
   CHECK_FALSE(shorter.converged);
 
-  // The Chebyshev preconditioner (numerics.cg_preconditioner: chebyshev): the same
-  // pressure as Eigen's in fewer iterations, and symmetric positive definite, as CG needs.
-  ConjugateGradient<TestSpace> chebyshev;
-  chebyshev.chebyshev(4, 30);
-  Kokkos::View<Real**, Mem> p_cheb("p_cheb", n, 2);
-  const auto cheb = chebyshev.solve(matrix, diag, b, p_cheb, n, 1e-12, 5000);
-  REQUIRE(cheb.converged);
-  WARN("Chebyshev (degree 4): " << cheb.iterations << " iterations against Jacobi's "
-                                 << result.iterations);
-  CHECK(cheb.iterations < result.iterations / 2);
-  auto hp_cheb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p_cheb);
-  for (int c = 0; c < 2; ++c) {
-    Real diff = 0;
-    for (int i = 0; i < n; ++i)
-      if (index[i] >= 0) diff = std::max(diff, std::abs(hp_cheb(i, c) - eigen_p[c][index[i]]));
-    CHECK(diff / eigen_p[c].cwiseAbs().maxCoeff() < 1e-8);
-  }
-  // x.My = y.Mx and x.Mx > 0 for random x, y on the unknowns (columns 0 and 1)
+  // Another preconditioner must give Eigen's pressure in fewer iterations than Jacobi's,
+  // and be symmetric positive definite, as CG needs: x.My = y.Mx and x.Mx > 0 for random
+  // x, y on the unknowns (columns 0 and 1 of xy; `precondition(xy, mxy)` applies M).
   Kokkos::View<Real**, Mem> xy("xy", n, 2), mxy("mxy", n, 2), scratch("scratch", n, 2);
   auto hxy = Kokkos::create_mirror_view(xy);
   for (int i = 0; i < n; ++i)
     for (int c = 0; c < 2; ++c) hxy(i, c) = index[i] >= 0 ? u(rng) : 0;
   Kokkos::deep_copy(xy, hxy);
-  chebyshev.precondition(matrix, diag, xy, mxy, scratch, n);
-  auto hm = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), mxy);
-  Real x_my = 0, y_mx = 0, x_mx = 0, norm = 0;
-  for (int i = 0; i < n; ++i) {
-    x_my += hxy(i, 0) * hm(i, 1);
-    y_mx += hxy(i, 1) * hm(i, 0);
-    x_mx += hxy(i, 0) * hm(i, 0);
-    norm += std::abs(hxy(i, 0) * hm(i, 1));
-  }
-  CHECK(std::abs(x_my - y_mx) < 1e-12 * norm);
-  CHECK(x_mx > 0);
+  const auto check_preconditioner = [&](const char* name, const CgResult& solved,
+                                        const Kokkos::View<Real**, Mem>& p_solved, auto&& precondition) {
+    REQUIRE(solved.converged);
+    WARN(name << ": " << solved.iterations << " iterations against Jacobi's " << result.iterations);
+    CHECK(solved.iterations < result.iterations / 2);
+    auto hp = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p_solved);
+    for (int c = 0; c < 2; ++c) {
+      Real diff = 0;
+      for (int i = 0; i < n; ++i)
+        if (index[i] >= 0) diff = std::max(diff, std::abs(hp(i, c) - eigen_p[c][index[i]]));
+      CHECK(diff / eigen_p[c].cwiseAbs().maxCoeff() < 1e-8);
+    }
+    precondition(xy, mxy);
+    auto hm = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), mxy);
+    Real x_my = 0, y_mx = 0, x_mx = 0, norm = 0;
+    for (int i = 0; i < n; ++i) {
+      x_my += hxy(i, 0) * hm(i, 1);
+      y_mx += hxy(i, 1) * hm(i, 0);
+      x_mx += hxy(i, 0) * hm(i, 0);
+      norm += std::abs(hxy(i, 0) * hm(i, 1));
+    }
+    CHECK(std::abs(x_my - y_mx) < 1e-12 * norm);
+    CHECK(x_mx > 0);
+  };
 
-  // The cell multigrid (numerics.cg_preconditioner: multigrid): the same pressure as
-  // Eigen's in a fraction of Jacobi's iterations, and symmetric positive definite.
-  CellMultigrid<D, TestSpace> multigrid(init.domain_lo, init.domain_hi, 0, dx, kernel.radius(), 10, 4);
+  // The Chebyshev preconditioner (numerics.cg_preconditioner: chebyshev)
+  ConjugateGradient<TestSpace> chebyshev;
+  chebyshev.chebyshev(4, 30);
+  Kokkos::View<Real**, Mem> p_cheb("p_cheb", n, 2);
+  check_preconditioner("Chebyshev (degree 4)", chebyshev.solve(matrix, diag, b, p_cheb, n, 1e-12, 5000),
+                       p_cheb, [&](const auto& in, const auto& out) {
+                         chebyshev.precondition(matrix, diag, in, out, scratch, n);
+                       });
+
+  // The cell multigrid (numerics.cg_preconditioner: multigrid)
+  CellMultigrid<D, TestSpace> multigrid(init.domain_lo, init.domain_hi, 0, dx, kernel.radius());
   multigrid.build(matrix, diag, x, n, 2);
   CHECK(multigrid.levels() >= 2);
   Kokkos::View<Real**, Mem> p_mg("p_mg", n, 2);
-  const auto mg = cg.solve(matrix, diag, b, p_mg, n, 1e-12, 5000, 0, &multigrid);
-  REQUIRE(mg.converged);
-  WARN("multigrid (" << multigrid.levels() << " levels): " << mg.iterations
-                     << " iterations against Jacobi's " << result.iterations);
-  CHECK(mg.iterations < result.iterations / 2);
-  auto hp_mg = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p_mg);
-  for (int c = 0; c < 2; ++c) {
-    Real diff = 0;
-    for (int i = 0; i < n; ++i)
-      if (index[i] >= 0) diff = std::max(diff, std::abs(hp_mg(i, c) - eigen_p[c][index[i]]));
-    CHECK(diff / eigen_p[c].cwiseAbs().maxCoeff() < 1e-8);
-  }
-  multigrid.apply(xy, mxy, scratch, n);
-  Kokkos::deep_copy(hm, mxy);
-  x_my = y_mx = x_mx = norm = 0;
-  for (int i = 0; i < n; ++i) {
-    x_my += hxy(i, 0) * hm(i, 1);
-    y_mx += hxy(i, 1) * hm(i, 0);
-    x_mx += hxy(i, 0) * hm(i, 0);
-    norm += std::abs(hxy(i, 0) * hm(i, 1));
-  }
-  CHECK(std::abs(x_my - y_mx) < 1e-12 * norm);
-  CHECK(x_mx > 0);
+  check_preconditioner("multigrid", cg.solve(matrix, diag, b, p_mg, n, 1e-12, 5000, 0, &multigrid), p_mg,
+                       [&](const auto& in, const auto& out) { multigrid.apply(in, out, scratch, n); });
 }
 
 // eq. 5's sources, checked against what they must be, not against assemble itself

@@ -83,8 +83,8 @@ class IsphSolver {
     nrhs_ = s.alpha == s.beta ? 1 : 2;
     if (s.cg_preconditioner == "chebyshev") cg_.chebyshev(s.chebyshev_degree, s.chebyshev_ratio);
     if (s.cg_preconditioner == "multigrid")
-      multigrid_ = std::make_unique<CellMultigrid<D, Space>>(
-          domain_lo_, domain_hi_, s.periodic, s.spacing, kernel_.radius(), multigrid_levels, 4);
+      multigrid_ = std::make_unique<CellMultigrid<D, Space>>(domain_lo_, domain_hi_, s.periodic,
+                                                             s.spacing, kernel_.radius());
 
     p_ = Particles<D, Space>(n_, "sph");
     copy_points<D>(init.x, p_.x);
@@ -448,7 +448,6 @@ class IsphSolver {
   PoissonMatrix<Space> matrix_;  // only filled when the scene stores the PPE matrix
   ConjugateGradient<Space> cg_;
   std::unique_ptr<CellMultigrid<D, Space>> multigrid_;  // numerics.cg_preconditioner: multigrid
-  static constexpr int multigrid_levels = 10;
   std::vector<Stage> stages_;
   StepInfo info_;
 };
