@@ -88,7 +88,7 @@ std::set<std::pair<int, int>> swept_pairs(const Sweep& sweep, const XView& xq, i
 }
 
 // Every pair (i, j), i != j, of `expected` exactly once in an upper row (j > i), and
-// each lower entry of j naming the upper entry that holds (i, j).
+// each lower entry of j naming the upper entry that holds (i, j), whose mirror names it back.
 template <class List, class Pairs>
 void check_half_pairs(const List& list, int n, const Pairs& expected) {
   HalfPairs<TestSpace> half;
@@ -96,7 +96,7 @@ void check_half_pairs(const List& list, int n, const Pairs& expected) {
   const auto rows = half.rows();
   const auto h = [](const auto& v) { return Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), v); };
   const auto uo = h(rows.upper_offsets), up = h(rows.upper), lo = h(rows.lower_offsets), low = h(rows.lower),
-             entry = h(rows.lower_entry);
+             entry = h(rows.lower_entry), mirror = h(rows.mirror);
   std::set<std::pair<int, int>> once;
   int wrong = 0;
   for (int i = 0; i < n; ++i)
@@ -108,7 +108,7 @@ void check_half_pairs(const List& list, int n, const Pairs& expected) {
   for (int j = 0; j < n; ++j)
     for (int b = lo(j); b < lo(j + 1); ++b, ++lower) {
       const int i = low(b), e = entry(b);
-      mismatched += !(i < j && e >= uo(i) && e < uo(i + 1) && up(e) == j);
+      mismatched += !(i < j && e >= uo(i) && e < uo(i + 1) && up(e) == j && mirror(e) == b);
     }
   long distinct = 0;
   for (const auto& pr : expected) distinct += pr.first != pr.second;

@@ -376,8 +376,8 @@ class DemSolver {
                 const Rot<D> moment = cross(nrm, res.force);
                 fi += res.force;
                 ti += (-ri) * moment;
-                set_columns<D>(pairs.record, a, P::force, res.force);
-                set_columns<R>(pairs.record, a, P::moment, moment);
+                set_columns<D>(pairs.record, list.mirror(a), P::force, res.force);
+                set_columns<R>(pairs.record, list.mirror(a), P::moment, moment);
                 set_columns<D>(pairs.xi, a, 0, res.xi);
               }
             }
@@ -385,7 +385,7 @@ class DemSolver {
               pairs.touching(a) = touches;
               if (!touches) {  // a contact that ends leaves no history and no force
                 for (int k = 0; k < D; ++k) pairs.xi(a, k) = 0;
-                for (int q = 0; q < P::width; ++q) pairs.record(a, q) = 0;
+                for (int q = 0; q < P::width; ++q) pairs.record(list.mirror(a), q) = 0;
               }
             }
           }
@@ -424,10 +424,9 @@ class DemSolver {
           // the pairs that partners j < i evaluated: this side is the opposite
           for (int b = list.lower_offsets(i); b < list.lower_offsets(i + 1); ++b) {
             // (a pair that does not touch holds zeros: adding them changes no bit)
-            const int e = list.lower_entry(b);
-            fi += (-1.0) * columns<D>(pairs.record, e, P::force);
-            ti += (-ri) * columns<R>(pairs.record, e, P::moment);
-            count += pairs.touching(e);
+            fi += (-1.0) * columns<D>(pairs.record, b, P::force);
+            ti += (-ri) * columns<R>(pairs.record, b, P::moment);
+            count += pairs.touching(list.lower_entry(b));
           }
           const Vec<D> xi = kin.x(i), vi = kin.v(i), vai = kin.v_ahead(i);
           const Rot<D> wi = kin.omega(i), wai = kin.omega_ahead(i);
@@ -501,7 +500,7 @@ class DemSolver {
             const int s = table.find(i, id(list.upper(a)));
             pairs.touching(a) = s >= 0;
             for (int k = 0; k < D; ++k) pairs.xi(a, k) = s >= 0 ? table.xi(i, s, k) : 0;
-            for (int q = 0; q < PairContacts<D, Space>::width; ++q) pairs.record(a, q) = 0;
+            for (int q = 0; q < PairContacts<D, Space>::width; ++q) pairs.record(list.mirror(a), q) = 0;
           }
           for (int w = 0; w < nw; ++w) {
             const int s = table.find(i, -(w + 1));
