@@ -99,13 +99,13 @@ class DemSolver {
     search_radius_ = 2 * r_max + skin_;
     list_skin_ = options_.list_skin * 2 * r_max;
     cells_ = CellList<D, Space>(Grid<D>(box_lo, box_hi, search_radius_ + list_skin_, options_.periodic_axes));
+    walls_d_ = Kokkos::View<PlaneWall<D>*, memory_space>(
+        Kokkos::view_alloc(Kokkos::WithoutInitializing, "dvisph::dem::walls"), walls_.size());
+    upload_walls();
     build_list();
     load_history();
     // the lightest pair collides fastest
     dt_ = options_.safety * law_.contact_time(0.5 * m_min);
-    walls_d_ = Kokkos::View<PlaneWall<D>*, memory_space>(
-        Kokkos::view_alloc(Kokkos::WithoutInitializing, "dvisph::dem::walls"), walls_.size());
-    upload_walls();
   }
 
   Spheres<D, Space>& spheres() { return spheres_; }
@@ -383,6 +383,7 @@ class DemSolver {
             }
             if (touches != touched) {
               pairs.touching(a) = touches;
+              pairs.touching_lower(list.mirror(a)) = touches;
               if (!touches) {  // a contact that ends leaves no history and no force
                 for (int k = 0; k < D; ++k) pairs.xi(a, k) = 0;
                 for (int q = 0; q < P::width; ++q) pairs.record(list.mirror(a), q) = 0;
@@ -426,11 +427,13 @@ class DemSolver {
             // (a pair that does not touch holds zeros: adding them changes no bit)
             fi += (-1.0) * columns<D>(pairs.record, b, P::force);
             ti += (-ri) * columns<R>(pairs.record, b, P::moment);
-            count += pairs.touching(list.lower_entry(b));
+            count += pairs.touching_lower(b);
           }
           const Vec<D> xi = kin.x(i), vi = kin.v(i), vai = kin.v_ahead(i);
           const Rot<D> wi = kin.omega(i), wai = kin.omega_ahead(i);
+          const unsigned near = pairs.near_walls(i);
           for (int w = 0; w < nw; ++w) {
+            if (!(near >> w & 1u)) continue;
             const PlaneWall<D> wall = walls(w);
             const bool touched = pairs.wall_touching(i, w);
             const Vec<D> xi_old = touched ? pairs.wall(i, w) : Vec<D>::zero();
@@ -487,26 +490,37 @@ class DemSolver {
           out.close(i, count);
         });
   }
-  // The table's history onto the listed pairs (after a new list is built).
+  // The table's history onto the listed pairs (after a new list is built), and the walls
+  // near each bead: a bead moves at most half the list skin from where the list was built
+  // (and where it is now), so a wall farther than skin + list skin now stays beyond the
+  // search skin until the next build.
   void load_history() {
     const auto id = spheres_.id;
+    const auto x = spheres_.x;
+    const auto rad = spheres_.radius;
     const auto list = half_.rows();
     const auto pairs = pairs_;
     const auto table = history_.table();
+    const auto walls = walls_d_;
     const int nw = static_cast<int>(walls_.size());
+    const Real reach = skin_ + list_skin_;
     Kokkos::parallel_for(
         "dvisph::dem::load_history", Kokkos::RangePolicy<Space>(0, spheres_.n), KOKKOS_LAMBDA(int i) {
           for (int a = list.upper_offsets(i); a < list.upper_offsets(i + 1); ++a) {
             const int s = table.find(i, id(list.upper(a)));
             pairs.touching(a) = s >= 0;
+            pairs.touching_lower(list.mirror(a)) = s >= 0;
             for (int k = 0; k < D; ++k) pairs.xi(a, k) = s >= 0 ? table.xi(i, s, k) : 0;
             for (int q = 0; q < PairContacts<D, Space>::width; ++q) pairs.record(list.mirror(a), q) = 0;
           }
+          unsigned near = 0;
           for (int w = 0; w < nw; ++w) {
             const int s = table.find(i, -(w + 1));
             pairs.wall_touching(i, w) = s >= 0;
             for (int k = 0; k < D; ++k) pairs.wall_xi(i, w * D + k) = s >= 0 ? table.xi(i, s, k) : 0;
+            if (s >= 0 || walls(w).distance(row<D>(x, i)) - rad(i) <= reach) near |= 1u << w;
           }
+          pairs.near_walls(i) = near;
         });
   }
 

@@ -10,6 +10,7 @@
 // checkpoints.
 #include "solvers/dem/rotation.hpp"
 
+#include <stdexcept>
 #include <string>
 
 namespace dvisph::dem {
@@ -23,14 +24,22 @@ struct PairContacts {
   Kokkos::View<Real* [width], memory_space> record;
   Kokkos::View<Real* [D], memory_space> xi;
   Kokkos::View<char*, memory_space> touching;
+  Kokkos::View<char*, memory_space> touching_lower;  // the same at the pair's lower entry
   // walls: bead i, wall w; wall_xi holds wall w's displacement in columns w D .. w D + D - 1
   Kokkos::View<Real**, memory_space> wall_xi;
   Kokkos::View<char**, memory_space> wall_touching;
+  // bit w: wall w is near bead i, so that until the next list build it may touch it; the
+  // other walls are not looked at (most beads are far from all walls)
+  Kokkos::View<unsigned*, memory_space> near_walls;
+  static constexpr int max_walls = 32;
 
   PairContacts() = default;
   PairContacts(int beads, int walls)
       : wall_xi("dvisph::dem::wall_xi", beads, walls * D),
-        wall_touching("dvisph::dem::wall_touching", beads, walls) {}
+        wall_touching("dvisph::dem::wall_touching", beads, walls),
+        near_walls("dvisph::dem::near_walls", beads) {
+    if (walls > max_walls) throw std::invalid_argument("PairContacts: more than 32 walls");
+  }
 
   // Room for `entries` pairs (kept when there is enough; the contents are refilled).
   void reserve(int entries) {
@@ -40,6 +49,7 @@ struct PairContacts {
     record = decltype(record)(none, size);
     xi = decltype(xi)(none, size);
     touching = decltype(touching)(none, size);
+    touching_lower = decltype(touching_lower)(none, size);
   }
 
   KOKKOS_INLINE_FUNCTION Vec<D> wall(int i, int w) const { return columns<D>(wall_xi, i, w * D); }
