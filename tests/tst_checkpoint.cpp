@@ -9,6 +9,9 @@
 #include <catch2/catch.hpp>
 
 #include <filesystem>
+#include <string>
+
+#include <unistd.h>
 
 using namespace dvisph;
 
@@ -39,8 +42,9 @@ solids:
   jitter: 0.04
 )";
 
+// One name per process: the test executables of each backend run at once under ctest -j.
 std::string temp_file(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / name).string();
+  return (std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "_" + name)).string();
 }
 
 template <class View>

@@ -383,7 +383,6 @@ class DemSolver {
             }
             if (touches != touched) {
               pairs.touching(a) = touches;
-              pairs.touching_lower(list.mirror(a)) = touches;
               if (!touches) {  // a contact that ends leaves no history and no force
                 for (int k = 0; k < D; ++k) pairs.xi(a, k) = 0;
                 for (int q = 0; q < P::width; ++q) pairs.record(list.mirror(a), q) = 0;
@@ -427,7 +426,7 @@ class DemSolver {
             // (a pair that does not touch holds zeros: adding them changes no bit)
             fi += (-1.0) * columns<D>(pairs.record, b, P::force);
             ti += (-ri) * columns<R>(pairs.record, b, P::moment);
-            count += pairs.touching_lower(b);
+            count += pairs.touching(list.lower_entry(b));
           }
           const Vec<D> xi = kin.x(i), vi = kin.v(i), vai = kin.v_ahead(i);
           const Rot<D> wi = kin.omega(i), wai = kin.omega_ahead(i);
@@ -509,7 +508,6 @@ class DemSolver {
           for (int a = list.upper_offsets(i); a < list.upper_offsets(i + 1); ++a) {
             const int s = table.find(i, id(list.upper(a)));
             pairs.touching(a) = s >= 0;
-            pairs.touching_lower(list.mirror(a)) = s >= 0;
             for (int k = 0; k < D; ++k) pairs.xi(a, k) = s >= 0 ? table.xi(i, s, k) : 0;
             for (int q = 0; q < PairContacts<D, Space>::width; ++q) pairs.record(list.mirror(a), q) = 0;
           }

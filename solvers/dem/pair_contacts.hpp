@@ -24,7 +24,6 @@ struct PairContacts {
   Kokkos::View<Real* [width], memory_space> record;
   Kokkos::View<Real* [D], memory_space> xi;
   Kokkos::View<char*, memory_space> touching;
-  Kokkos::View<char*, memory_space> touching_lower;  // the same at the pair's lower entry
   // walls: bead i, wall w; wall_xi holds wall w's displacement in columns w D .. w D + D - 1
   Kokkos::View<Real**, memory_space> wall_xi;
   Kokkos::View<char**, memory_space> wall_touching;
@@ -49,7 +48,6 @@ struct PairContacts {
     record = decltype(record)(none, size);
     xi = decltype(xi)(none, size);
     touching = decltype(touching)(none, size);
-    touching_lower = decltype(touching_lower)(none, size);
   }
 
   KOKKOS_INLINE_FUNCTION Vec<D> wall(int i, int w) const { return columns<D>(wall_xi, i, w * D); }
