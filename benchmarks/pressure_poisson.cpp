@@ -300,6 +300,13 @@ bench::Record run(long target_n, const Options& opt, double triad) {
   const auto t_mg_build = bench::time_it<Space>([&] { multigrid.build(csr, diag, x, n, 1); }, solve_repeats);
   CgResult mg;
   const auto t_mg = time_column0("dvisph::bench::ppe::solve_csr_multigrid", cg1, csr, mg, &multigrid);
+  // its additive form (additive_multigrid; the same set-up)
+  using Multigrid = CellMultigrid<D, Space>;
+  Multigrid additive(init.domain_lo, init.domain_hi, 0, dx, kernel.radius(), Multigrid::FineLevel::additive);
+  additive.build(csr, diag, x, n, 1);
+  CgResult mg_add;
+  const auto t_mg_add =
+      time_column0("dvisph::bench::ppe::solve_csr_additive_multigrid", cg1, csr, mg_add, &additive);
   // the single solve of column 0 alone, for the comparison with Eigen
   const auto t_one = time_column0("dvisph::bench::ppe::solve_single", cg1, ppe_list, single[0]);
 
@@ -359,6 +366,8 @@ bench::Record run(long target_n, const Options& opt, double triad) {
       .add("solve_csr_chebyshev3_iterations", chebyshev.iterations)
       .add("solve_csr_multigrid_s", t_mg.median_s, 4)
       .add("solve_csr_multigrid_iterations", mg.iterations)
+      .add("solve_csr_additive_multigrid_s", t_mg_add.median_s, 4)
+      .add("solve_csr_additive_multigrid_iterations", mg_add.iterations)
       .add("multigrid_build_s", t_mg_build.median_s, 4)
       .add("multigrid_levels", multigrid.levels())
       .add("eigen_s", t_eigen.median_s, 4)
@@ -368,11 +377,12 @@ bench::Record run(long target_n, const Options& opt, double triad) {
       .add_significant("eigen_max_relative_difference", diff / scale, 3);
   fmt::print(stderr,
              "  solve: two rhs {:.3f} s ({} it), two singles {:.3f} s ({} + {} it), csr {:.3f} s "
-             "({} it; Chebyshev 3: {:.3f} s, {} it; multigrid {:.3f} s, {} it, {} levels, set-up {:.3f} s), "
-             "Eigen {:.3f} s ({} it) = {:.2f} x ours ({:.3f} s)\n",
+             "({} it; Chebyshev 3: {:.3f} s, {} it; multigrid {:.3f} s, {} it, {} levels, set-up {:.3f} s; "
+             "additive {:.3f} s, {} it), Eigen {:.3f} s ({} it) = {:.2f} x ours ({:.3f} s)\n",
              t_two.median_s, two.iterations, t_singles.median_s, single[0].iterations,
              single[1].iterations, t_csr.median_s, stored.iterations, t_cheb.median_s,
-             chebyshev.iterations, t_mg.median_s, mg.iterations, multigrid.levels(), t_mg_build.median_s, t_eigen.median_s, eigen_cg.iterations(),
+             chebyshev.iterations, t_mg.median_s, mg.iterations, multigrid.levels(), t_mg_build.median_s,
+             t_mg_add.median_s, mg_add.iterations, t_eigen.median_s, eigen_cg.iterations(),
              t_eigen.median_s / t_one.median_s, t_one.median_s);
   return r;
 }

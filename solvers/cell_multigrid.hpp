@@ -7,7 +7,11 @@
 // piecewise-constant aggregation P; a row couples only the cells next to it (its
 // stencil, s = 1). One application is a symmetric V-cycle: one damped
 // Jacobi sweep before and one after the coarse correction on every level, a few sweeps
-// on the coarsest.
+// on the coarsest. Or (FineLevel::additive) the particles take no smoothing sweeps: z =
+// omega D^-1 r + P B_1 P^T r, B_1 the V-cycle from level 1 down. That spares the two
+// matrix applications on the particles that a smoothed application costs, for more CG
+// iterations (3D dam break: 19.9 a step against 11.6, PPE 0.86-0.87 of the time;
+// benchmarks/RESULTS.md); the sum of two SPD operators is SPD.
 // Why it is a valid CG preconditioner: the PPE matrix is an M-matrix (off-diagonals
 // <= 0, each diagonal at least its row's off-diagonal sum), and so is every P^T A P;
 // damped Jacobi at omega = 2/3 < 2 / lambda_max(D^-1 A) (lambda_max <= 2, Gershgorin)
@@ -115,13 +119,16 @@ class CellMultigrid final : public Preconditioner<Space> {
   using Diagonal = Kokkos::View<Real*, memory_space>;
   using Indices = Kokkos::View<int*, memory_space>;
   static constexpr Real omega = 2.0 / 3.0;
+  enum class FineLevel { smoothed, additive };
 
   // Aggregates max(4 dx, radius) wide over the particles' box (periodic_axes: bit k
   // where axis k wraps), for a matrix whose couplings reach `radius`; up to max_levels
   // levels, `coarsest_sweeps` Jacobi sweeps on the last.
   CellMultigrid(const Vec<D>& box_lo, const Vec<D>& box_hi, unsigned periodic_axes, Real dx,
-                Real radius, int max_levels = 10, int coarsest_sweeps = 4)
+                Real radius, FineLevel fine = FineLevel::smoothed, int max_levels = 10,
+                int coarsest_sweeps = 4)
       : cells_(Grid<D>(box_lo, box_hi, std::max(4 * dx, radius), periodic_axes)),
+        fine_(fine),
         max_levels_(max_levels),
         coarsest_sweeps_(coarsest_sweeps) {
     const Grid<D>& grid = cells_.grid();
@@ -182,15 +189,33 @@ class CellMultigrid final : public Preconditioner<Space> {
     const int K = static_cast<int>(r.extent(1));
     const auto diag = diag_;
     const auto range = Kokkos::RangePolicy<Space>(0, n);
+    const auto aggregate = aggregate_;
+    if (fine_ == FineLevel::additive) {
+      restrict_from_particles(r, q, false);
+      cycle(0);
+      const auto zc = levels_[0].z;  // (after the cycle: its sweeps swap z and t)
+      ColumnSums rz;
+      Kokkos::parallel_reduce(
+          "dvisph::multigrid::fine_additive", range,
+          KOKKOS_LAMBDA(int i, ColumnSums& s) {
+            const Real w = diag(i) > 0 ? omega / diag(i) : 0;
+            const int c = aggregate(i);
+            for (int k = 0; k < K; ++k) {
+              z(i, k) = w * r(i, k) + (c >= 0 ? zc(c, k) : 0);
+              s.v[k] += r(i, k) * z(i, k);
+            }
+          },
+          rz);
+      return rz;
+    }
     Kokkos::parallel_for(
         "dvisph::multigrid::fine_presmooth", range, KOKKOS_LAMBDA(int i) {
           const Real w = diag(i) > 0 ? omega / diag(i) : 0;
           for (int k = 0; k < K; ++k) z(i, k) = w * r(i, k);
         });
     matrix_.apply(z, q, diag, n);
-    restrict_from_particles(r, q);
+    restrict_from_particles(r, q, true);
     cycle(0);
-    const auto aggregate = aggregate_;
     const auto zc = levels_[0].z;
     Kokkos::parallel_for(
         "dvisph::multigrid::prolong_to_particles", range, KOKKOS_LAMBDA(int i) {
@@ -360,8 +385,8 @@ class CellMultigrid final : public Preconditioner<Space> {
     status_ = Kokkos::View<int, memory_space>("dvisph::multigrid::status");
   }
 
-  // r_1 = P^T (r - q) over the unknowns of each level-1 cell.
-  void restrict_from_particles(const Vectors& r, const Vectors& q) const {
+  // r_1 = P^T (r - q) over the unknowns of each level-1 cell (P^T r without q).
+  void restrict_from_particles(const Vectors& r, const Vectors& q, bool with_q) const {
     const Level L = levels_[0];
     const int K = static_cast<int>(r.extent(1));
     const auto offsets = cells_.offsets();
@@ -374,7 +399,7 @@ class CellMultigrid final : public Preconditioner<Space> {
           for (int m = offsets(c); m < offsets(c + 1); ++m) {
             const int i = members(m);
             if (aggregate(i) < 0) continue;
-            for (int k = 0; k < K; ++k) sum[k] += r(i, k) - q(i, k);
+            for (int k = 0; k < K; ++k) sum[k] += with_q ? r(i, k) - q(i, k) : r(i, k);
           }
           for (int k = 0; k < K; ++k) L.r(c, k) = sum[k];
         });
@@ -453,6 +478,7 @@ class CellMultigrid final : public Preconditioner<Space> {
  private:
   CellList<D, Space> cells_;
   StencilGrid<D> first_;
+  FineLevel fine_;
   int max_levels_, coarsest_sweeps_;
   std::vector<Level> levels_;
   PoissonMatrix<Space> matrix_;

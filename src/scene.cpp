@@ -342,7 +342,7 @@ void check_periodic(const Scene& s) {
                                      "number of spacings (the lattice would leave a gap at the seam)",
                                      axes[k], L, sites, s.spacing));
       need(2 * h / fluid_cells_per_radius, 2 * h, "the fluid's");
-      if (s.cg_preconditioner == "multigrid")  // its aggregates: CellMultigrid
+      if (uses_multigrid(s.cg_preconditioner))  // its aggregates: CellMultigrid
         need(std::max(4 * s.spacing, 2 * h), 2 * h, "the multigrid aggregates'");
     }
     if (s.coupling) {
@@ -380,10 +380,10 @@ void check_consistency(const Scene& s) {
     throw SceneError("numerics.settle_until: damps the water, and the scene has no geometry.fluid");
   if (s.fluid.empty() && !s.solids)
     throw SceneError("nothing to simulate: give geometry.fluid, solids, or both");
-  if (s.cg_preconditioner == "multigrid" && s.pressure_operator != "stored")
-    throw SceneError(fmt::format("numerics.cg_preconditioner = multigrid: needs "
+  if (uses_multigrid(s.cg_preconditioner) && s.pressure_operator != "stored")
+    throw SceneError(fmt::format("numerics.cg_preconditioner = {}: needs "
                                  "numerics.pressure_operator = stored (it is '{}')",
-                                 s.pressure_operator));
+                                 s.cg_preconditioner, s.pressure_operator));
   check_periodic(s);
   if (s.solids) check_solids(s);
   if (s.coupling && (s.fluid.empty() || !s.solids))

@@ -76,7 +76,7 @@ struct Scene {
   double h_over_dx = 1.5, gamma = 0.1, cfl = 0.25, dt_max = 1e-3, cg_tolerance = 1e-8, cg_density_tolerance = 1e-6;
   double alpha = 0.1, beta = 0.1;  // numerics.alpha / beta, each numerics.gamma unless given
   int cg_max_iterations = 2000;
-  std::string cg_preconditioner = "jacobi";
+  std::string cg_preconditioner = "jacobi";  // jacobi, chebyshev, multigrid, additive_multigrid
   int chebyshev_degree = 3;
   double chebyshev_ratio = 30;
   std::string pressure_operator = "stored";
@@ -97,6 +97,11 @@ struct Scene {
 
   std::string yaml;  // the scene as validated, overrides applied
 };
+
+// Whether numerics.cg_preconditioner is one of the cell multigrid's (solvers/cell_multigrid.hpp).
+inline bool uses_multigrid(const std::string& preconditioner) {
+  return preconditioner == "multigrid" || preconditioner == "additive_multigrid";
+}
 
 // Reads, overrides (`key.path=value`), validates and converts a scene file.
 // Throws SceneError on any bad input.

@@ -217,12 +217,15 @@ Field make_schema() {
                          "CG also stops once its residual leaves no particle a density change "
                          "per step above this (dt^2 |r_i| / rho0; 0: off)"),
                   integer("cg_max_iterations", "2000", 1, 1e6, "CG iteration cap"),
-                  choice("cg_preconditioner", "jacobi", {"jacobi", "chebyshev", "multigrid"},
+                  choice("cg_preconditioner", "jacobi",
+                         {"jacobi", "chebyshev", "multigrid", "additive_multigrid"},
                          "CG's preconditioner: the diagonal, a Chebyshev polynomial in it "
-                         "(chebyshev_degree - 1 more matrix applications per iteration), or a "
+                         "(chebyshev_degree - 1 more matrix applications per iteration), a "
                          "V-cycle over cell aggregates (two more per iteration and a set-up per "
-                         "step; needs pressure_operator: stored); the last two take fewer "
-                         "iterations (docs/isph.md)"),
+                         "step; needs pressure_operator: stored), or the diagonal plus that "
+                         "V-cycle from the first aggregates down (no more applications, more "
+                         "iterations than multigrid); the last three take fewer iterations "
+                         "than jacobi (docs/isph.md)"),
                   integer("chebyshev_degree", "3", 2, 32,
                           "degree of the Chebyshev preconditioner"),
                   number("chebyshev_ratio", "", "30", 1.5, 1e6,

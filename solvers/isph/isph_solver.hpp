@@ -82,9 +82,12 @@ class IsphSolver {
     gamma_[1] = s.beta;
     nrhs_ = s.alpha == s.beta ? 1 : 2;
     if (s.cg_preconditioner == "chebyshev") cg_.chebyshev(s.chebyshev_degree, s.chebyshev_ratio);
-    if (s.cg_preconditioner == "multigrid")
-      multigrid_ = std::make_unique<CellMultigrid<D, Space>>(domain_lo_, domain_hi_, s.periodic,
-                                                             s.spacing, kernel_.radius());
+    if (uses_multigrid(s.cg_preconditioner)) {
+      using M = CellMultigrid<D, Space>;
+      multigrid_ = std::make_unique<M>(
+          domain_lo_, domain_hi_, s.periodic, s.spacing, kernel_.radius(),
+          s.cg_preconditioner == "additive_multigrid" ? M::FineLevel::additive : M::FineLevel::smoothed);
+    }
 
     p_ = Particles<D, Space>(n_, "sph");
     copy_points<D>(init.x, p_.x);
