@@ -30,7 +30,7 @@ class HalfPairs {
     List list;
     KOKKOS_INLINE_FUNCTION int operator()(int i) const {
       int count = 0;
-      for (int a = list.offsets(i); a < list.ends(i); ++a) {
+      for (int a = list.starts(i); a < list.ends(i); ++a) {
         const int j = list.neighbors(a);
         count += Above ? j > i : j < i;
       }
@@ -44,14 +44,14 @@ class HalfPairs {
     Kokkos::View<int, memory_space> unmatched;
     KOKKOS_INLINE_FUNCTION void operator()(int i) const {
       int u = upper_offsets(i), l = lower_offsets(i);
-      for (int a = list.offsets(i); a < list.ends(i); ++a) {
+      for (int a = list.starts(i); a < list.ends(i); ++a) {
         const int j = list.neighbors(a);
         if (j > i) {
           upper(u++) = j;
         } else if (j < i) {
           // where row j's upper part holds i: row j's partners above j, in list order
           int e = upper_offsets(j), found = -1;
-          for (int b = list.offsets(j); b < list.ends(j) && found < 0; ++b) {
+          for (int b = list.starts(j); b < list.ends(j) && found < 0; ++b) {
             const int k = list.neighbors(b);
             if (k == i) found = e;
             e += k > j;
