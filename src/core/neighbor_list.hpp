@@ -87,13 +87,10 @@ class NeighborList {
     }
   };
 
-  // Each row at its place in the counted layout.
+  // Each row's room ends where the next row's starts in the counted layout.
   struct LayOut {
-    Kokkos::View<int*, memory_space> offsets, starts, limits;
-    KOKKOS_INLINE_FUNCTION void operator()(int i) const {
-      starts(i) = offsets(i);
-      limits(i) = offsets(i + 1);
-    }
+    Kokkos::View<int*, memory_space> starts, limits;
+    KOKKOS_INLINE_FUNCTION void operator()(int i) const { limits(i) = starts(i + 1); }
   };
 
   // Room beyond a row's count at a full build: what a step's motion may add.
@@ -106,17 +103,17 @@ class NeighborList {
              const Roomy& roomy) {
     if (n != n_ || static_cast<int>(ends_.extent(0)) < n) forget_layout();
     if (!(laid_out_ && fill(sweep, xq, n, wanted))) {
-      const int room = csr_offsets<Space>(offsets_, n, RoomCount<XView, Roomy>{sweep, xq, roomy},
+      // the counted layout: row starts as CSR offsets (rows that move later overwrite theirs)
+      const int room = csr_offsets<Space>(starts_, n, RoomCount<XView, Roomy>{sweep, xq, roomy},
                                           "dvisph::neighbor_list");
       reserve_entries(neighbors_, room + room / 16 + 256, "dvisph::neighbor_list::neighbors");
       const auto none = Kokkos::view_alloc(Kokkos::WithoutInitializing, std::string("dvisph::neighbor_list::rows"));
       if (static_cast<int>(ends_.extent(0)) < n) {
         ends_ = Kokkos::View<int*, memory_space>(none, n);
-        starts_ = Kokkos::View<int*, memory_space>(none, n);
         limits_ = Kokkos::View<int*, memory_space>(none, n);
       }
       Kokkos::parallel_for("dvisph::neighbor_list::lay_out", Kokkos::RangePolicy<Space>(0, n),
-                           LayOut{offsets_, starts_, limits_});
+                           LayOut{starts_, limits_});
       Kokkos::deep_copy(Space(), pool_top_, room);
       room_ = room;
       if (!fill(sweep, xq, n, wanted)) throw std::logic_error("NeighborList: a counted row overflowed");
@@ -169,7 +166,7 @@ class NeighborList {
     return top - room_;
   }
   std::size_t bytes() const {
-    return view_bytes(offsets_, starts_, limits_, ends_, neighbors_, out_of_room_, pool_top_);
+    return view_bytes(starts_, limits_, ends_, neighbors_, out_of_room_, pool_top_);
   }
 
  private:
@@ -196,7 +193,7 @@ class NeighborList {
   Kokkos::View<int, memory_space> out_of_room_{"dvisph::neighbor_list::out_of_room"};
   Kokkos::View<int, memory_space> pool_top_{"dvisph::neighbor_list::pool_top"};  // its next free entry
   Real radius2_ = 0;
-  Kokkos::View<int*, memory_space> offsets_, starts_, limits_, ends_, neighbors_;
+  Kokkos::View<int*, memory_space> starts_, limits_, ends_, neighbors_;
   Kokkos::View<const Real* [D], memory_space> x_;
   Periodic<D> periodic_;
 };
