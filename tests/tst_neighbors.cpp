@@ -4,6 +4,7 @@
 // their nearest image). The half split of the stored list holds each pair once.
 #include "src/core/half_pairs.hpp"
 #include "src/core/neighbor_list.hpp"
+#include "solvers/isph/wet_cells.hpp"
 #include "tests/test_space.hpp"
 
 #include <catch2/catch.hpp>
@@ -225,4 +226,60 @@ TEST_CASE("periodic positions wrap into the box, pair vectors to the nearest ima
   p.nearest_image(d);
   CHECK(d[0] == Approx(-0.1));
   CHECK(d[1] == 0.9);
+}
+
+namespace {
+
+// WetCells' test against its definition: a particle is near when it is water or a cell
+// within `reach` cells along every axis (at the nearest image on periodic axes) of its own
+// holds water.
+template <int D>
+void check_wet_cells(const Vec<D>& hi, Real cell, Real radius, unsigned periodic, unsigned seed) {
+  const int n = 1200;
+  const auto p = random_points<D>(n, hi, cell, seed);
+  const Grid<D> grid(Vec<D>::zero(), hi, cell, periodic);
+  std::mt19937 rng(seed + 1);
+  Kokkos::View<Kind*, Mem> kind("kind", n);
+  auto kh = Kokkos::create_mirror_view(kind);
+  for (int i = 0; i < n; ++i) kh(i) = rng() % 150 == 0 ? Kind::fluid : Kind::wall;  // a few wet cells
+  Kokkos::deep_copy(kind, kh);
+  const auto x = to_view<D>(p);
+  WetCells<D, TestSpace> wet;
+  const auto near = wet.mark(grid, radius, x, kind, n);
+  for (int margin : {0, 2}) {
+    const auto test = margin == 0 ? near : wet.wider(near, margin);
+    Kokkos::View<int*, Mem> got("got", n);
+    Kokkos::parallel_for(
+        "test::wet_cells", Kokkos::RangePolicy<TestSpace>(0, n), KOKKOS_LAMBDA(int i) { got(i) = test(i); });
+    auto gh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), got);
+    const int reach = grid.reach(radius) + margin;
+    auto coord = [&](const Vec<D>& q, int k) { return grid.clamp(grid.coord(q[k], k), k); };
+    int near_count = 0;
+    for (int i = 0; i < n; ++i) {
+      bool expect = kh(i) == Kind::fluid;
+      for (int j = 0; j < n && !expect; ++j) {
+        if (kh(j) != Kind::fluid) continue;
+        bool within = true;
+        for (int k = 0; k < D; ++k) {
+          int d = std::abs(coord(p[i], k) - coord(p[j], k));
+          if (periodic >> k & 1u) d = std::min(d, grid.ncell[k] - d);
+          within = within && d <= reach;
+        }
+        expect = within;
+      }
+      near_count += expect;
+      CHECK(gh(i) == int(expect));
+    }
+    CHECK(near_count > 0);
+    CHECK(near_count < n);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("wet cells: the particles within reach of water, as their definition says", "[neighbors]") {
+  check_wet_cells<2>({2.0, 1.2}, 0.05, 0.1, 0, 7);
+  check_wet_cells<2>({2.0, 1.2}, 0.05, 0.1, 1u, 8);  // x wraps
+  check_wet_cells<3>({1.0, 0.8, 0.8}, 0.05, 0.1, 0, 9);
+  check_wet_cells<3>({1.0, 0.8, 0.8}, 0.05, 0.1, 2u, 10);  // y wraps
 }
