@@ -253,7 +253,7 @@ class IsphSolver {
     // room in the list for the particles within a kernel radius more of the water, so
     // that most steps fill the list in place (neighbor_list.hpp)
     list_.build(CellSweep<D, Space>(cells_, p_.x, kernel_.radius()), p_.x, n_, near_water,
-                wet_cells_.wider(near_water, fluid_cells_per_radius));
+                [&] { return wet_cells_.wider(near_water, fluid_cells_per_radius); });
   }
 
   void solve_pressure() {

@@ -97,14 +97,16 @@ class NeighborList {
   KOKKOS_INLINE_FUNCTION static int slack(int count) { return count > 0 ? 4 + count / 8 : 0; }
 
   // Lists, for each of the n query points xq(i) with wanted(i), the targets of `sweep`
-  // (an empty list for the others); rows with roomy(i) get room at a full build.
-  template <class XView, class Wanted, class Roomy>
+  // (an empty list for the others); rows with roomy(i) get room at a full build, where
+  // roomy = make_roomy() is asked for (only then: it may cost a pass of its own).
+  template <class XView, class Wanted, class MakeRoomy>
   void build(const CellSweep<D, Space>& sweep, const XView& xq, int n, const Wanted& wanted,
-             const Roomy& roomy) {
+             const MakeRoomy& make_roomy) {
     if (n != n_ || static_cast<int>(ends_.extent(0)) < n) forget_layout();
     if (!(laid_out_ && fill(sweep, xq, n, wanted))) {
       // the counted layout: row starts as CSR offsets (rows that move later overwrite theirs)
-      const int room = csr_offsets<Space>(starts_, n, RoomCount<XView, Roomy>{sweep, xq, roomy},
+      const auto roomy = make_roomy();
+      const int room = csr_offsets<Space>(starts_, n, RoomCount<XView, decltype(roomy)>{sweep, xq, roomy},
                                           "dvisph::neighbor_list");
       reserve_entries(neighbors_, room + room / 16 + 256, "dvisph::neighbor_list::neighbors");
       const auto none = Kokkos::view_alloc(Kokkos::WithoutInitializing, std::string("dvisph::neighbor_list::rows"));
@@ -128,7 +130,7 @@ class NeighborList {
 
   template <class XView, class Wanted>
   void build(const CellSweep<D, Space>& sweep, const XView& xq, int n, const Wanted& wanted) {
-    build(sweep, xq, n, wanted, wanted);
+    build(sweep, xq, n, wanted, [&] { return wanted; });
   }
   template <class XView>
   void build(const CellSweep<D, Space>& sweep, const XView& xq, int n) {
