@@ -12,7 +12,8 @@ template <int D, class Space>
 struct ContactKinematics {
   using memory_space = typename Space::memory_space;
   static constexpr int R = rot_dim<D>;
-  static constexpr int x0 = 0, v0 = D, va0 = 2 * D, w0 = 3 * D, wa0 = 3 * D + R, r0 = 3 * D + 2 * R;
+  // centre and radius first: a listed pair that does not touch reads one cache line
+  static constexpr int x0 = 0, r0 = D, v0 = D + 1, va0 = 2 * D + 1, w0 = 3 * D + 1, wa0 = 3 * D + R + 1;
   static constexpr int width = 3 * D + 2 * R + 1;
 
   Kokkos::View<Real* [width], memory_space> row;

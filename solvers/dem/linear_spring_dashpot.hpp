@@ -39,6 +39,9 @@ struct Overlaps {
     return {now + dt * vn_before, now + 0.5 * dt * vn_before, now, now - 0.5 * dt * vn_after};
   }
   KOKKOS_INLINE_FUNCTION bool touching() const { return lo > 0 || now > 0 || hi > 0; }
+  // In contact over the whole kick interval (most contacts in a bed): the law's
+  // fractions are 1 and its means plain values (no division needed for them).
+  KOKKOS_INLINE_FUNCTION bool interior() const { return lo > 0 && now > 0 && hi > 0; }
 
   // Fraction of a linear segment from a to b where it is positive.
   KOKKOS_INLINE_FUNCTION static Real positive_fraction(Real a, Real b) {
@@ -116,7 +119,7 @@ struct LinearSpringDashpot {
                                                        Real dt) const {
     const Overlaps& d = c.overlap;
     const Vec<D>& n = c.normal;
-    const bool interior = d.lo > 0 && d.now > 0 && d.hi > 0;
+    const bool interior = d.interior();
     const Real d_spring =
         interior
             ? d.now
@@ -139,10 +142,12 @@ struct LinearSpringDashpot {
     // the limit from storing energy in the spring. Lengths are compared squared, so a
     // contact that sticks takes no square root here.
     const Real in_contact =
-        0.5 * (Overlaps::positive_fraction(d.lo, d.now) + Overlaps::positive_fraction(d.now, d.hi));
+        interior ? 1
+                 : 0.5 * (Overlaps::positive_fraction(d.lo, d.now) + Overlaps::positive_fraction(d.now, d.hi));
     // Only compression presses the surfaces together: while the dashpot pulls (fn < 0)
     // there is no friction to hold.
-    const Real limit = mu * math::max(fn, 0) / in_contact, limit2 = limit * limit;
+    const Real limit = interior ? mu * math::max(fn, 0) : mu * math::max(fn, 0) / in_contact,
+               limit2 = limit * limit;
     const Real xi2 = dot(xi, xi);
     Vec<D> ft;
     if (k_t * k_t * xi2 > limit2) {
