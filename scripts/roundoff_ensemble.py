@@ -5,7 +5,11 @@ Member k (1..N) multiplies the numbers of one scene key by (1 + k eps) (decimal
 arithmetic, so the same text as writing the digits by hand; eps = 1e-12 by default).
 Each variant is a name, optionally @binary (another build), and extra key=value
 overrides; every variant runs every member, one thread a run, two runs at a time.
-Prints each member's metrics and, per variant, the min / median / max.
+Prints each member's metrics; per variant, the mean, standard deviation, min, median and
+max; with two variants, the two-sided Mann-Whitney p of each metric (normal approximation
+with tie and continuity corrections, scipy's asymptotic method; rough below about 8 runs
+a side): whether the two could be draws from one distribution. --report tabulates the outputs already in the work
+directory without running anything.
 
   # the paper's 2D claim (CTest glass_beads_methods: conventional p95 / proposed p95 >= 3)
   scripts/roundoff_ensemble.py scenes/glass_beads_dam_break_2d.yaml -n 24 \\
@@ -20,6 +24,7 @@ Prints each member's metrics and, per variant, the min / median / max.
 import argparse
 import concurrent.futures
 import json
+import math
 import os
 import statistics
 import subprocess
@@ -37,6 +42,22 @@ def perturbed(value, factor):
     if isinstance(value, list):
         return "[" + ", ".join(str(scale(x)) for x in value) + "]"
     return str(scale(value))
+
+
+def mann_whitney_p(a, b):
+    pooled = sorted(a + b)
+    rank = {}
+    for x in set(pooled):  # mean rank of ties
+        first = pooled.index(x)
+        rank[x] = first + (pooled.count(x) + 1) / 2
+    n1, n2, n = len(a), len(b), len(a) + len(b)
+    u = sum(rank[x] for x in a) - n1 * (n1 + 1) / 2
+    ties = sum(c ** 3 - c for c in (pooled.count(x) for x in set(pooled)))
+    sigma = math.sqrt(n1 * n2 / 12 * ((n + 1) - ties / (n * (n - 1))))
+    if sigma == 0:
+        return 1.0
+    z = (abs(u - n1 * n2 / 2) - 0.5) / sigma
+    return min(1.0, math.erfc(max(z, 0) / math.sqrt(2)))
 
 
 def lookup(tree, dotted):
@@ -57,6 +78,7 @@ def main():
     ap.add_argument("--metric", action="append", required=True, help="dotted path in summary.json")
     ap.add_argument("--ratio", help="A/B: also the ratio of the first metric, variant A over B")
     ap.add_argument("--work", help="output directory (default out/ensemble_<scene name>)")
+    ap.add_argument("--report", action="store_true", help="only tabulate the work directory's outputs")
     args = ap.parse_args()
 
     scene = yaml.safe_load(open(args.scene))
@@ -66,7 +88,7 @@ def main():
     for v in args.variant:
         name, _, binary = v[0].partition("@")
         binary = Path(binary or os.environ.get("DVISPH", root / "build" / "dvisph"))
-        if not os.access(binary, os.X_OK):
+        if not args.report and not os.access(binary, os.X_OK):
             sys.exit(f"roundoff_ensemble: {binary} is not an executable (scripts/build.sh)")
         variants.append((name, binary, v[1:]))
 
@@ -79,7 +101,8 @@ def main():
         for s in args.set + sets:
             cmd += ["--set", s]
         env = dict(os.environ, OMP_NUM_THREADS="1", OMP_PROC_BIND="false")
-        subprocess.run(cmd, check=True, env=env, stdout=subprocess.DEVNULL)
+        if not args.report:
+            subprocess.run(cmd, check=True, env=env, stdout=subprocess.DEVNULL)
         summary = json.load(open(out / "summary.json"))
         return [lookup(summary, m) for m in args.metric]
 
@@ -94,7 +117,13 @@ def main():
     for n in names:
         for i, m in enumerate(args.metric):
             xs = [values[k, n][i] for k in range(1, args.n + 1)]
-            print(f"{n} {m}: min {min(xs):.6g}  median {statistics.median(xs):.6g}  max {max(xs):.6g}")
+            sd = statistics.stdev(xs) if len(xs) > 1 else 0
+            print(f"{n} {m}: mean {statistics.mean(xs):.6g} sd {sd:.2g}  min {min(xs):.6g}  "
+                  f"median {statistics.median(xs):.6g}  max {max(xs):.6g}")
+    if len(names) == 2:
+        for i, m in enumerate(args.metric):
+            a, b = ([values[k, n][i] for k in range(1, args.n + 1)] for n in names)
+            print(f"{names[0]} against {names[1]}, {m}: Mann-Whitney p {mann_whitney_p(a, b):.2f}")
     if args.ratio:
         a, b = args.ratio.split("/")
         rs = [values[k, a][0] / values[k, b][0] for k in range(1, args.n + 1)]
