@@ -335,7 +335,6 @@ class DemSolver {
 
   void pair_contacts(Real dt) {
     const auto kin = kinematics_;
-    const auto m = spheres_.mass;
     const auto f = spheres_.force;
     const auto t = spheres_.torque;  // rotational: [rdim] columns
     const Law law = law_;
@@ -346,47 +345,59 @@ class DemSolver {
     const auto status = status_;
     const Real max_overlap = options_.max_overlap;
     using P = PairContacts<D, Space>;
+    // pairs per chunk (below): on a GPU a thread's arrays would live in slow local
+    // memory and a warp diverges anyway, so there it takes one pair at a time
+    constexpr int chunk = Kokkos::SpaceAccessibility<Kokkos::HostSpace, memory_space>::accessible ? 8 : 1;
     Kokkos::parallel_for(
         "dvisph::dem::pair_contacts", Kokkos::RangePolicy<Space>(0, spheres_.n), KOKKOS_LAMBDA(int i) {
           const Vec<D> xi = kin.x(i), vi = kin.v(i), vai = kin.v_ahead(i);
           const Rot<D> wi = kin.omega(i), wai = kin.omega_ahead(i);
-          const Real ri = kin.radius(i), mi = m(i);
+          const Real ri = kin.radius(i);
           Vec<D> fi = Vec<D>::zero();
           Rot<D> ti = Rot<D>::zero();
-          for (int a = list.upper_offsets(i); a < list.upper_offsets(i + 1); ++a) {
-            const int j = list.upper(a);
-            const bool touched = pairs.touching(a);  // at the last step: xi(a) is its history
-            bool touches = false;
-            Vec<D> xij = xi - kin.x(j);
-            periodic.nearest_image(xij);
-            const Real r2 = dot(xij, xij);
-            if (r2 < radius2 && r2 > 0) {
-              const Real r = math::sqrt(r2), rj = kin.radius(j);
+          const int end = list.upper_offsets(i + 1);
+          for (int begin = list.upper_offsets(i); begin < end; begin += chunk) {
+            // First the geometry of a chunk of listed pairs, without branching on which of
+            // them touch (in a bed, near pairs touch or not at random, a branch that is
+            // mispredicted), keeping those that do; then the law on those alone.
+            Contact<D> contact[chunk];
+            int entry[chunk], touching = 0;
+            for (int a = begin; a < begin + chunk && a < end; ++a) {
+              const int j = list.upper(a);
+              Vec<D> xij = xi - kin.x(j);
+              periodic.nearest_image(xij);
+              const Real r2 = dot(xij, xij), r = math::sqrt(r2), rj = kin.radius(j);
               // dv: i's centre relative to j's (before, after t); spin = r_i w_i + r_j w_j,
-              // so the contact points move apart at dv - spin x nrm.
+              // so the contact points move apart at dv - spin x nrm. (r = 0, never listed,
+              // makes NaNs that touch nothing.)
               const Vec<D> nrm = (1 / r) * xij, dv = vi - kin.v(j), dva = vai - kin.v_ahead(j);
               const Overlaps d = Overlaps::along(ri + rj - r, dot(dv, nrm), dot(dva, nrm), dt);
-              touches = d.touching();
-              if (touches) {
-                if (d.now > max_overlap * math::min(ri, rj)) Kokkos::atomic_fetch_max(&status(deep_bead), i + 1);
-                const Rot<D> spin = ri * wi + rj * kin.omega(j), spina = ri * wai + rj * kin.omega_ahead(j);
-                const Contact<D> c{d, nrm, dv - cross(spin, nrm), dva - cross(spina, nrm), mi * m(j) / (mi + m(j))};
-                const ContactResponse<D> res =
-                    law(c, touched ? row<D>(pairs.xi, a) : Vec<D>::zero(), dt);
-                const Rot<D> moment = cross(nrm, res.force);
-                fi += res.force;
-                ti += (-ri) * moment;
-                set_columns<D>(pairs.record, list.mirror(a), P::force, res.force);
-                set_columns<R>(pairs.record, list.mirror(a), P::moment, moment);
-                set_columns<D>(pairs.xi, a, 0, res.xi);
+              const Rot<D> spin = ri * wi + rj * kin.omega(j), spina = ri * wai + rj * kin.omega_ahead(j);
+              contact[touching] = {d, nrm, dv - cross(spin, nrm), dva - cross(spina, nrm), pairs.sqrt_m(a)};
+              entry[touching] = a;
+              const bool touches = (r2 < radius2) & d.touching(), touched = pairs.touching(a);
+              touching += touches;
+              if (touches != touched) {
+                pairs.touching(a) = touches;
+                if (!touches) {  // a contact that ends leaves no history and no force
+                  for (int k = 0; k < D; ++k) pairs.xi(a, k) = 0;
+                  for (int q = 0; q < P::width; ++q) pairs.record(list.mirror(a), q) = 0;
+                }
               }
             }
-            if (touches != touched) {
-              pairs.touching(a) = touches;
-              if (!touches) {  // a contact that ends leaves no history and no force
-                for (int k = 0; k < D; ++k) pairs.xi(a, k) = 0;
-                for (int q = 0; q < P::width; ++q) pairs.record(list.mirror(a), q) = 0;
-              }
+            for (int c = 0; c < touching; ++c) {
+              const int a = entry[c];
+              const Contact<D>& ct = contact[c];
+              if (ct.overlap.now > max_overlap * math::min(ri, kin.radius(list.upper(a))))
+                Kokkos::atomic_fetch_max(&status(deep_bead), i + 1);
+              // xi(a) is the history of a contact that touched at the last step, else 0
+              const ContactResponse<D> res = law(ct, row<D>(pairs.xi, a), dt);
+              const Rot<D> moment = cross(ct.normal, res.force);
+              fi += res.force;
+              ti += (-ri) * moment;
+              set_columns<D>(pairs.record, list.mirror(a), P::force, res.force);
+              set_columns<R>(pairs.record, list.mirror(a), P::moment, moment);
+              set_columns<D>(pairs.xi, a, 0, res.xi);
             }
           }
           for (int k = 0; k < D; ++k) f(i, k) = fi[k];
@@ -448,7 +459,7 @@ class DemSolver {
             const Overlaps d = Overlaps::along(-gap, dot(vi, nrm), dot(vai, nrm), dt);
             if (!d.touching()) continue;
             if (d.now > max_overlap * ri) Kokkos::atomic_fetch_max(&status(deep_bead), i + 1);
-            const Contact<D> c{d, nrm, vi - cross(ri * wi, nrm), vai - cross(ri * wai, nrm), m(i)};
+            const Contact<D> c{d, nrm, vi - cross(ri * wi, nrm), vai - cross(ri * wai, nrm), math::sqrt(m(i))};
             const ContactResponse<D> res = law(c, xi_old, dt);
             fi += res.force;
             ti += (-ri) * cross(nrm, res.force);
@@ -529,6 +540,7 @@ class DemSolver {
                 spheres_.n);
     half_.build(list_.sweep(), spheres_.n);
     pairs_.reserve(half_.pairs());
+    pairs_.set_masses(half_.rows(), spheres_.mass, spheres_.n);
     Kokkos::deep_copy(x_listed_, spheres_.x);
     ++list_builds_;
   }

@@ -22,6 +22,7 @@ struct PairContacts {
   static constexpr int force = 0, moment = D, width = D + R;  // columns of `record`
 
   Kokkos::View<Real* [width], memory_space> record;
+  Kokkos::View<Real*, memory_space> sqrt_m;  // of the pair's reduced mass, set at the list build
   Kokkos::View<Real* [D], memory_space> xi;
   Kokkos::View<char*, memory_space> touching;
   // walls: bead i, wall w; wall_xi holds wall w's displacement in columns w D .. w D + D - 1
@@ -48,6 +49,22 @@ struct PairContacts {
     record = decltype(record)(none, size);
     xi = decltype(xi)(none, size);
     touching = decltype(touching)(none, size);
+    sqrt_m = decltype(sqrt_m)(none, size);
+  }
+
+  // sqrt_m of the listed pairs (Rows: HalfPairs::Rows), once per list build: the same
+  // bits as at every pair evaluation, without its division and square root.
+  template <class Rows, class Masses>
+  void set_masses(const Rows& list, const Masses& m, int n) const {
+    const auto root = sqrt_m;
+    Kokkos::parallel_for(
+        "dvisph::dem::pair_masses", Kokkos::RangePolicy<typename Space::execution_space>(0, n),
+        KOKKOS_LAMBDA(int i) {
+          for (int a = list.upper_offsets(i); a < list.upper_offsets(i + 1); ++a) {
+            const int j = list.upper(a);
+            root(a) = math::sqrt(m(i) * m(j) / (m(i) + m(j)));
+          }
+        });
   }
 
   KOKKOS_INLINE_FUNCTION Vec<D> wall(int i, int w) const { return columns<D>(wall_xi, i, w * D); }
