@@ -355,6 +355,7 @@ class DemSolver {
           const Real ri = kin.radius(i);
           Vec<D> fi = Vec<D>::zero();
           Rot<D> ti = Rot<D>::zero();
+          int contacts = 0;
           const int end = list.upper_offsets(i + 1);
           for (int begin = list.upper_offsets(i); begin < end; begin += chunk) {
             // First the geometry of a chunk of listed pairs, without branching on which of
@@ -397,11 +398,14 @@ class DemSolver {
               ti += (-ri) * moment;
               set_columns<D>(pairs.record, list.mirror(a), P::force, res.force);
               set_columns<R>(pairs.record, list.mirror(a), P::moment, moment);
+              pairs.record(list.mirror(a), P::touches) = 1;
               set_columns<D>(pairs.xi, a, 0, res.xi);
             }
+            contacts += touching;
           }
           for (int k = 0; k < D; ++k) f(i, k) = fi[k];
           for (int c = 0; c < R; ++c) t(i, c) = ti[c];
+          pairs.upper_touching(i) = contacts;
         });
   }
 
@@ -430,14 +434,13 @@ class DemSolver {
           const Real ri = kin.radius(i);
           Vec<D> fi = row<D>(f, i);
           Rot<D> ti = row<R>(t, i);
-          int count = 0;
-          for (int a = list.upper_offsets(i); a < list.upper_offsets(i + 1); ++a) count += pairs.touching(a);
+          int count = pairs.upper_touching(i);
           // the pairs that partners j < i evaluated: this side is the opposite
           for (int b = list.lower_offsets(i); b < list.lower_offsets(i + 1); ++b) {
             // (a pair that does not touch holds zeros: adding them changes no bit)
             fi += (-1.0) * columns<D>(pairs.record, b, P::force);
             ti += (-ri) * columns<R>(pairs.record, b, P::moment);
-            count += pairs.touching(list.lower_entry(b));
+            count += pairs.record(b, P::touches) != 0;
           }
           const Vec<D> xi = kin.x(i), vi = kin.v(i), vai = kin.v_ahead(i);
           const Rot<D> wi = kin.omega(i), wai = kin.omega_ahead(i);

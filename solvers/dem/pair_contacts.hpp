@@ -19,12 +19,15 @@ template <int D, class Space>
 struct PairContacts {
   using memory_space = typename Space::memory_space;
   static constexpr int R = rot_dim<D>;
-  static constexpr int force = 0, moment = D, width = D + R;  // columns of `record`
+  // columns of `record`: the force, the moment, 1 while the pair touches (so that j counts
+  // its contacts from the rows it reads anyway)
+  static constexpr int force = 0, moment = D, touches = D + R, width = D + R + 1;
 
   Kokkos::View<Real* [width], memory_space> record;
   Kokkos::View<Real*, memory_space> sqrt_m;  // of the pair's reduced mass, set at the list build
   Kokkos::View<Real* [D], memory_space> xi;
   Kokkos::View<char*, memory_space> touching;
+  Kokkos::View<int*, memory_space> upper_touching;  // per bead i: its pairs (i, j > i) that touch
   // walls: bead i, wall w; wall_xi holds wall w's displacement in columns w D .. w D + D - 1
   Kokkos::View<Real**, memory_space> wall_xi;
   Kokkos::View<char**, memory_space> wall_touching;
@@ -35,7 +38,8 @@ struct PairContacts {
 
   PairContacts() = default;
   PairContacts(int beads, int walls)
-      : wall_xi("dvisph::dem::wall_xi", beads, walls * D),
+      : upper_touching("dvisph::dem::upper_touching", beads),
+        wall_xi("dvisph::dem::wall_xi", beads, walls * D),
         wall_touching("dvisph::dem::wall_touching", beads, walls),
         near_walls("dvisph::dem::near_walls", beads) {
     if (walls > max_walls) throw std::invalid_argument("PairContacts: more than 32 walls");
