@@ -345,9 +345,11 @@ class DemSolver {
     const auto status = status_;
     const Real max_overlap = options_.max_overlap;
     using P = PairContacts<D, Space>;
-    // pairs per chunk (below): on a GPU a thread's arrays would live in slow local
+    using K = ContactKinematics<D, Space>;
+    // pairs per chunk (below): 4 and 8 take the same time on the bead-bed settle (about
+    // 4 listed pairs per bead); on a GPU a thread's arrays would live in slow local
     // memory and a warp diverges anyway, so there it takes one pair at a time
-    constexpr int chunk = Kokkos::SpaceAccessibility<Kokkos::HostSpace, memory_space>::accessible ? 8 : 1;
+    constexpr int chunk = Kokkos::SpaceAccessibility<Kokkos::HostSpace, memory_space>::accessible ? 4 : 1;
     Kokkos::parallel_for(
         "dvisph::dem::pair_contacts", Kokkos::RangePolicy<Space>(0, spheres_.n), KOKKOS_LAMBDA(int i) {
           const Vec<D> xi = kin.x(i), vi = kin.v(i), vai = kin.v_ahead(i);
@@ -358,38 +360,65 @@ class DemSolver {
           int contacts = 0;
           const int end = list.upper_offsets(i + 1);
           for (int begin = list.upper_offsets(i); begin < end; begin += chunk) {
-            // First the geometry of a chunk of listed pairs, without branching on which of
-            // them touch (in a bed, near pairs touch or not at random, a branch that is
-            // mispredicted), keeping those that do; then the law on those alone.
-            Contact<D> contact[chunk];
-            int entry[chunk], touching = 0;
-            for (int a = begin; a < begin + chunk && a < end; ++a) {
-              const int j = list.upper(a);
-              Vec<D> xij = xi - kin.x(j);
-              periodic.nearest_image(xij);
-              const Real r2 = dot(xij, xij), r = math::sqrt(r2), rj = kin.radius(j);
+            // A chunk of listed pairs in three passes: their partners' rows copied lane by
+            // lane; the geometry of every lane in one loop without a branch, which the
+            // compiler runs in SIMD lanes (same operations, same bits, as one by one);
+            // the law on those that touch alone (in a bed, near pairs touch or not at
+            // random, a branch that is mispredicted). A lane past the chunk's end takes
+            // bead i itself: r = 0 makes NaNs that touch nothing.
+            const int lanes = math::min(chunk, end - begin);
+            int j[chunk];
+            for (int c = 0; c < chunk; ++c) j[c] = c < lanes ? list.upper(begin + c) : i;
+            Real partner[K::width][chunk];  // x0 .. x0 + D - 1: the separation x_i - x_j
+            for (int q = 0; q < K::width; ++q)
+              for (int c = 0; c < chunk; ++c) partner[q][c] = kin.row(j[c], q);
+            for (int k = 0; k < D; ++k) {
+              Real* x = partner[K::x0 + k];
+              for (int c = 0; c < chunk; ++c) x[c] = xi[k] - x[c];
+              if (periodic.wraps(k))  // (per axis, not per lane: a branch keeps loops scalar)
+                for (int c = 0; c < chunk; ++c) x[c] = periodic.nearest(x[c], k);
+            }
+            Real gap[4][chunk], normal[D][chunk], v_before[D][chunk], v_after[D][chunk];
+            Real touches[chunk];  // 1 or 0 (a bool array keeps GCC 12 from vectorizing)
+            for (int c = 0; c < chunk; ++c) {
+              Vec<D> xij, dv, dva;
+              Rot<D> wj, waj;
+              for (int k = 0; k < D; ++k) {
+                xij[k] = partner[K::x0 + k][c];
+                dv[k] = vi[k] - partner[K::v0 + k][c];
+                dva[k] = vai[k] - partner[K::va0 + k][c];
+              }
+              for (int q = 0; q < R; ++q) wj[q] = partner[K::w0 + q][c], waj[q] = partner[K::wa0 + q][c];
+              const Real r2 = dot(xij, xij), r = math::sqrt(r2), rj = partner[K::r0][c];
               // dv: i's centre relative to j's (before, after t); spin = r_i w_i + r_j w_j,
-              // so the contact points move apart at dv - spin x nrm. (r = 0, never listed,
-              // makes NaNs that touch nothing.)
-              const Vec<D> nrm = (1 / r) * xij, dv = vi - kin.v(j), dva = vai - kin.v_ahead(j);
+              // so the contact points move apart at dv - spin x nrm.
+              const Vec<D> nrm = (1 / r) * xij;
               const Overlaps d = Overlaps::along(ri + rj - r, dot(dv, nrm), dot(dva, nrm), dt);
-              const Rot<D> spin = ri * wi + rj * kin.omega(j), spina = ri * wai + rj * kin.omega_ahead(j);
-              contact[touching] = {d, nrm, dv - cross(spin, nrm), dva - cross(spina, nrm), pairs.sqrt_m(a)};
-              entry[touching] = a;
-              const bool touches = (r2 < radius2) & d.touching(), touched = pairs.touching(a);
-              touching += touches;
-              if (touches != touched) {
-                pairs.touching(a) = touches;
-                if (!touches) {  // a contact that ends leaves no history and no force
+              const Vec<D> vb = dv - cross(ri * wi + rj * wj, nrm), va = dva - cross(ri * wai + rj * waj, nrm);
+              gap[0][c] = d.prev, gap[1][c] = d.lo, gap[2][c] = d.now, gap[3][c] = d.hi;
+              for (int k = 0; k < D; ++k) normal[k][c] = nrm[k], v_before[k][c] = vb[k], v_after[k][c] = va[k];
+              touches[c] = (r2 < radius2) & d.touching() ? 1 : 0;
+            }
+            int entry[chunk], touching = 0;
+            for (int c = 0; c < lanes; ++c) {
+              const int a = begin + c;
+              entry[touching] = c;
+              const bool now = touches[c] != 0;
+              touching += now;
+              if (now != static_cast<bool>(pairs.touching(a))) {
+                pairs.touching(a) = now;
+                if (!now) {  // a contact that ends leaves no history and no force
                   for (int k = 0; k < D; ++k) pairs.xi(a, k) = 0;
                   for (int q = 0; q < P::width; ++q) pairs.record(list.mirror(a), q) = 0;
                 }
               }
             }
-            for (int c = 0; c < touching; ++c) {
-              const int a = entry[c];
-              const Contact<D>& ct = contact[c];
-              if (ct.overlap.now > max_overlap * math::min(ri, kin.radius(list.upper(a))))
+            for (int e = 0; e < touching; ++e) {
+              const int c = entry[e], a = begin + c;
+              Contact<D> ct{{gap[0][c], gap[1][c], gap[2][c], gap[3][c]}, {}, {}, {}, pairs.sqrt_m(a)};
+              for (int k = 0; k < D; ++k)
+                ct.normal[k] = normal[k][c], ct.v_before[k] = v_before[k][c], ct.v_after[k] = v_after[k][c];
+              if (ct.overlap.now > max_overlap * math::min(ri, partner[K::r0][c]))
                 Kokkos::atomic_fetch_max(&status(deep_bead), i + 1);
               // xi(a) is the history of a contact that touched at the last step, else 0
               const ContactResponse<D> res = law(ct, row<D>(pairs.xi, a), dt);

@@ -25,7 +25,11 @@ struct Periodic {
   // xij = xi - xj at its nearest image (unchanged along axes that do not wrap).
   KOKKOS_INLINE_FUNCTION void nearest_image(Vec<D>& xij) const {
     for (int k = 0; k < D; ++k)
-      if (wraps(k)) xij[k] -= length[k] * math::floor(xij[k] / length[k] + 0.5);
+      if (wraps(k)) xij[k] = nearest(xij[k], k);
+  }
+  // Component k of a pair vector at its nearest image, along an axis that wraps.
+  KOKKOS_INLINE_FUNCTION Real nearest(Real dx, int k) const {
+    return dx - length[k] * math::floor(dx / length[k] + 0.5);
   }
   // x along axis k brought back into [lo, lo + length).
   KOKKOS_INLINE_FUNCTION Real wrap(Real x, int k) const {
