@@ -360,12 +360,13 @@ class DemSolver {
           int contacts = 0;
           const int end = list.upper_offsets(i + 1);
           for (int begin = list.upper_offsets(i); begin < end; begin += chunk) {
-            // A chunk of listed pairs in three passes: their partners' rows copied lane by
-            // lane; the geometry of every lane in one loop without a branch, which the
+            // A chunk of listed pairs in passes: their partners' rows gathered column by
+            // column; the geometry of every lane in one loop without a branch, which the
             // compiler runs in SIMD lanes (same operations, same bits, as one by one);
-            // the law on those that touch alone (in a bed, near pairs touch or not at
-            // random, a branch that is mispredicted). A lane past the chunk's end takes
-            // bead i itself: r = 0 makes NaNs that touch nothing.
+            // the contacts that start or end; the law on those that touch alone (in a
+            // bed, near pairs touch or not at random, a branch that is mispredicted). A
+            // lane past the chunk's end takes bead i itself: r = 0 makes NaNs that touch
+            // nothing.
             const int lanes = math::min(chunk, end - begin);
             int j[chunk];
             for (int c = 0; c < chunk; ++c) j[c] = c < lanes ? list.upper(begin + c) : i;
@@ -379,7 +380,7 @@ class DemSolver {
                 for (int c = 0; c < chunk; ++c) x[c] = periodic.nearest(x[c], k);
             }
             Real gap[4][chunk], normal[D][chunk], v_before[D][chunk], v_after[D][chunk];
-            Real touches[chunk];  // 1 or 0 (a bool array keeps GCC 12 from vectorizing)
+            Real touch[chunk];  // 1 or 0 (a bool array keeps GCC 12 from vectorizing)
             for (int c = 0; c < chunk; ++c) {
               Vec<D> xij, dv, dva;
               Rot<D> wj, waj;
@@ -397,13 +398,13 @@ class DemSolver {
               const Vec<D> vb = dv - cross(ri * wi + rj * wj, nrm), va = dva - cross(ri * wai + rj * waj, nrm);
               gap[0][c] = d.prev, gap[1][c] = d.lo, gap[2][c] = d.now, gap[3][c] = d.hi;
               for (int k = 0; k < D; ++k) normal[k][c] = nrm[k], v_before[k][c] = vb[k], v_after[k][c] = va[k];
-              touches[c] = (r2 < radius2) & d.touching() ? 1 : 0;
+              touch[c] = ((r2 < radius2) & d.touching()) ? 1 : 0;
             }
             int entry[chunk], touching = 0;
             for (int c = 0; c < lanes; ++c) {
               const int a = begin + c;
               entry[touching] = c;
-              const bool now = touches[c] != 0;
+              const bool now = touch[c] != 0;
               touching += now;
               if (now != static_cast<bool>(pairs.touching(a))) {
                 pairs.touching(a) = now;

@@ -3,8 +3,10 @@
 // bead pair (i, j), i < j (src/core/half_pairs.hpp), and at each bead-wall pair. Per
 // pair: whether the two touch now, i's tangential displacement xi (0 when they do not
 // touch; j's is the opposite), and, for bead j to gather, the force on i and the moment
-// n x F (the torque on either bead is minus its radius times it, n from j to i), stored
-// at the pair's lower entry of j (HalfPairs' mirror), so j reads its rows in order. The
+// n x F (the torque on either bead is minus its radius times it, n from j to i) and a
+// copy of the touching flag, stored at the pair's lower entry of j (HalfPairs' mirror),
+// so j reads its rows in order and counts its contacts from them; and per bead, how many
+// of its upper pairs touch. The two copies save the gather a pass over the flags. The
 // pair kernel reads and rewrites xi in place, so no search by partner is made in a step;
 // the id-keyed ContactHistory is the form kept across list builds, reorders and
 // checkpoints.
