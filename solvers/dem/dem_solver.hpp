@@ -16,6 +16,8 @@
 #include "solvers/dem/pair_contacts.hpp"
 #include "solvers/dem/plane_wall.hpp"
 #include "solvers/dem/spheres.hpp"
+#include "solvers/dem/upper_pairs.hpp"
+#include "solvers/dem/wall_contacts.hpp"
 #include "src/core/extrema.hpp"
 #include "src/core/neighbor_list.hpp"
 #include "src/core/neighbor_sweep.hpp"
@@ -84,7 +86,8 @@ class DemSolver {
         box_lo_(box_lo),
         box_hi_(box_hi),
         gravity_(gravity),
-        pairs_(spheres.n, static_cast<int>(walls_.size())),
+        in_order_(in_order()),
+        pairs_(spheres.n, static_cast<int>(walls_.size()), in_order_),
         history_(spheres.n, options.history_capacity),
         kinematics_(spheres.n),
         x_listed_("dvisph::dem::x_listed", spheres.n),
@@ -323,192 +326,93 @@ class DemSolver {
   }
 
   // Contact force and torque on each bead at the current positions, with the half-step
-  // velocities and the predicted ones in the contact kinematics (kick_drift);
-  // writes the history of the contacts alive now into the next table. Each bead pair is
-  // evaluated once, by its lower index, which adds its side and leaves the pair's force
-  // for the other bead (the law is antisymmetric: the other side is the exact
-  // opposite); then every bead gathers those and adds its walls.
-  void contact_forces(Real dt) {
-    pair_contacts(dt);
-    gather_contacts(dt, false);
+  // velocities and the predicted ones in the contact kinematics (kick_drift); kick: then
+  // v += dt/2 a with the forces just summed (the closing half kick, fused). Each bead
+  // pair is evaluated once, by its lower index (solvers/dem/upper_pairs.hpp), which adds
+  // its side and hands the exact opposite to the other bead; on one thread the beads
+  // are visited in order and the other bead's side is added to its sums at once,
+  // otherwise it is left at the pair for the other bead to gather in a second kernel.
+  // A bead's force is the sum over its lower partners (ascending) plus that over its
+  // upper ones plus its walls': the same bits either way.
+  void contact_forces(Real dt, bool kick) {
+    if (in_order_) {
+      timed(2, [&] { contacts_in_order(dt, kick); });
+    } else {
+      timed(2, [&] { pair_contacts(dt); });
+      timed(3, [&] { gather_contacts(dt, kick); });
+    }
   }
 
   void pair_contacts(Real dt) {
-    const auto kin = kinematics_;
     const auto f = spheres_.force;
     const auto t = spheres_.torque;  // rotational: [rdim] columns
-    const Law law = law_;
-    const auto list = half_.rows();
-    const Real radius2 = search_radius_ * search_radius_;
-    const Periodic<D> periodic = cells_.grid().periodic;
     const auto pairs = pairs_;
-    const auto status = status_;
-    const Real max_overlap = options_.max_overlap;
-    using P = PairContacts<D, Space>;
-    using K = ContactKinematics<D, Space>;
-    // pairs per chunk (below): 4 and 8 take the same time on the bead-bed settle (about
-    // 4 listed pairs per bead); on a GPU a thread's arrays would live in slow local
-    // memory and a warp diverges anyway, so there it takes one pair at a time
-    constexpr int chunk = Kokkos::SpaceAccessibility<Kokkos::HostSpace, memory_space>::accessible ? 4 : 1;
+    const UpperPairs<D, Space> upper = upper_pairs(dt);
+    const PartnerRecord<D, Space> partner{pairs_.record, half_.rows().mirror};
     Kokkos::parallel_for(
         "dvisph::dem::pair_contacts", Kokkos::RangePolicy<Space>(0, spheres_.n), KOKKOS_LAMBDA(int i) {
-          const Vec<D> xi = kin.x(i), vi = kin.v(i), vai = kin.v_ahead(i);
-          const Rot<D> wi = kin.omega(i), wai = kin.omega_ahead(i);
-          const Real ri = kin.radius(i);
           Vec<D> fi = Vec<D>::zero();
           Rot<D> ti = Rot<D>::zero();
-          int contacts = 0;
-          const int end = list.upper_offsets(i + 1);
-          for (int begin = list.upper_offsets(i); begin < end; begin += chunk) {
-            // A chunk of listed pairs in passes: their partners' rows gathered column by
-            // column; the geometry of every lane in one loop without a branch, which the
-            // compiler runs in SIMD lanes (same operations, same bits, as one by one);
-            // the contacts that start or end; the law on those that touch alone (in a
-            // bed, near pairs touch or not at random, a branch that is mispredicted). A
-            // lane past the chunk's end takes bead i itself: r = 0 makes NaNs that touch
-            // nothing.
-            const int lanes = math::min(chunk, end - begin);
-            int j[chunk];
-            for (int c = 0; c < chunk; ++c) j[c] = c < lanes ? list.upper(begin + c) : i;
-            Real partner[K::width][chunk];  // x0 .. x0 + D - 1: the separation x_i - x_j
-            for (int q = 0; q < K::width; ++q)
-              for (int c = 0; c < chunk; ++c) partner[q][c] = kin.row(j[c], q);
-            for (int k = 0; k < D; ++k) {
-              Real* x = partner[K::x0 + k];
-              for (int c = 0; c < chunk; ++c) x[c] = xi[k] - x[c];
-              if (periodic.wraps(k))  // (per axis, not per lane: a branch keeps loops scalar)
-                for (int c = 0; c < chunk; ++c) x[c] = periodic.nearest(x[c], k);
-            }
-            Real gap[4][chunk], normal[D][chunk], v_before[D][chunk], v_after[D][chunk];
-            Real touch[chunk];  // 1 or 0 (a bool array keeps GCC 12 from vectorizing)
-            for (int c = 0; c < chunk; ++c) {
-              Vec<D> xij, dv, dva;
-              Rot<D> wj, waj;
-              for (int k = 0; k < D; ++k) {
-                xij[k] = partner[K::x0 + k][c];
-                dv[k] = vi[k] - partner[K::v0 + k][c];
-                dva[k] = vai[k] - partner[K::va0 + k][c];
-              }
-              for (int q = 0; q < R; ++q) wj[q] = partner[K::w0 + q][c], waj[q] = partner[K::wa0 + q][c];
-              const Real r2 = dot(xij, xij), r = math::sqrt(r2), rj = partner[K::r0][c];
-              // dv: i's centre relative to j's (before, after t); spin = r_i w_i + r_j w_j,
-              // so the contact points move apart at dv - spin x nrm.
-              const Vec<D> nrm = (1 / r) * xij;
-              const Overlaps d = Overlaps::along(ri + rj - r, dot(dv, nrm), dot(dva, nrm), dt);
-              const Vec<D> vb = dv - cross(ri * wi + rj * wj, nrm), va = dva - cross(ri * wai + rj * waj, nrm);
-              gap[0][c] = d.prev, gap[1][c] = d.lo, gap[2][c] = d.now, gap[3][c] = d.hi;
-              for (int k = 0; k < D; ++k) normal[k][c] = nrm[k], v_before[k][c] = vb[k], v_after[k][c] = va[k];
-              touch[c] = ((r2 < radius2) & d.touching()) ? 1 : 0;
-            }
-            int entry[chunk], touching = 0;
-            for (int c = 0; c < lanes; ++c) {
-              const int a = begin + c;
-              entry[touching] = c;
-              const bool now = touch[c] != 0;
-              touching += now;
-              if (now != static_cast<bool>(pairs.touching(a))) {
-                pairs.touching(a) = now;
-                if (!now) {  // a contact that ends leaves no history and no force
-                  for (int k = 0; k < D; ++k) pairs.xi(a, k) = 0;
-                  for (int q = 0; q < P::width; ++q) pairs.record(list.mirror(a), q) = 0;
-                }
-              }
-            }
-            for (int e = 0; e < touching; ++e) {
-              const int c = entry[e], a = begin + c;
-              Contact<D> ct{{gap[0][c], gap[1][c], gap[2][c], gap[3][c]}, {}, {}, {}, pairs.sqrt_m(a)};
-              for (int k = 0; k < D; ++k)
-                ct.normal[k] = normal[k][c], ct.v_before[k] = v_before[k][c], ct.v_after[k] = v_after[k][c];
-              if (ct.overlap.now > max_overlap * math::min(ri, partner[K::r0][c]))
-                Kokkos::atomic_fetch_max(&status(deep_bead), i + 1);
-              // xi(a) is the history of a contact that touched at the last step, else 0
-              const ContactResponse<D> res = law(ct, row<D>(pairs.xi, a), dt);
-              const Rot<D> moment = cross(ct.normal, res.force);
-              fi += res.force;
-              ti += (-ri) * moment;
-              set_columns<D>(pairs.record, list.mirror(a), P::force, res.force);
-              set_columns<R>(pairs.record, list.mirror(a), P::moment, moment);
-              pairs.record(list.mirror(a), P::touches) = 1;
-              set_columns<D>(pairs.xi, a, 0, res.xi);
-            }
-            contacts += touching;
-          }
+          pairs.upper_touching(i) = upper(i, fi, ti, partner);
           for (int k = 0; k < D; ++k) f(i, k) = fi[k];
           for (int c = 0; c < R; ++c) t(i, c) = ti[c];
-          pairs.upper_touching(i) = contacts;
         });
   }
 
-  // kick: then v += dt/2 a with the forces just summed (the closing half kick, fused)
   void gather_contacts(Real dt, bool kick) {
-    const auto kin = kinematics_;
-    const auto m = spheres_.mass;
     const auto f = spheres_.force;
     const auto t = spheres_.torque;  // rotational: [rdim] columns
-    const auto walls = walls_d_;
-    const int nw = static_cast<int>(walls_.size());
-    const Law law = law_;
     const auto list = half_.rows();
     const auto pairs = pairs_;
-    const auto status = status_;
-    const int capacity = history_.capacity();
-    const auto v = spheres_.v, fext = spheres_.f_ext;
-    const auto om = spheres_.omega;  // rotational: [rdim] columns
-    const auto I = spheres_.inertia;
-    const Vec<D> g = gravity_;
-    const bool rotation = options_.rotation;
-    const Real max_overlap = options_.max_overlap, skin = skin_;
+    const WallContacts<D, Space> walls = wall_contacts(dt);
+    const Closing closing = closing_kick(dt, kick);
     using P = PairContacts<D, Space>;
     Kokkos::parallel_for(
         "dvisph::dem::gather_contacts", Kokkos::RangePolicy<Space>(0, spheres_.n), KOKKOS_LAMBDA(int i) {
-          const Real ri = kin.radius(i);
-          Vec<D> fi = row<D>(f, i);
-          Rot<D> ti = row<R>(t, i);
+          // the pairs that partners j < i evaluated (a pair that does not touch holds zeros)
+          Vec<D> fi = Vec<D>::zero();
+          Rot<D> ti = Rot<D>::zero();
           int count = pairs.upper_touching(i);
-          // the pairs that partners j < i evaluated: this side is the opposite
           for (int b = list.lower_offsets(i); b < list.lower_offsets(i + 1); ++b) {
-            // (a pair that does not touch holds zeros: adding them changes no bit)
-            fi += (-1.0) * columns<D>(pairs.record, b, P::force);
-            ti += (-ri) * columns<R>(pairs.record, b, P::moment);
+            fi += columns<D>(pairs.record, b, P::force);
+            ti += columns<R>(pairs.record, b, P::torque);
             count += pairs.record(b, P::touches) != 0;
           }
-          const Vec<D> xi = kin.x(i), vi = kin.v(i), vai = kin.v_ahead(i);
-          const Rot<D> wi = kin.omega(i), wai = kin.omega_ahead(i);
-          const unsigned near = pairs.near_walls(i);
-          for (int w = 0; w < nw; ++w) {
-            if (!(near >> w & 1u)) continue;
-            const PlaneWall<D> wall = walls(w);
-            const bool touched = pairs.wall_touching(i, w);
-            const Vec<D> xi_old = touched ? pairs.wall(i, w) : Vec<D>::zero();
-            if (touched) {  // until it is found touching again below (a removed gate: never)
-              pairs.wall_touching(i, w) = 0;
-              pairs.set_wall(i, w, Vec<D>::zero());
-            }
-            if (!wall.active) continue;
-            // walls beyond the search skin are skipped, as listed pairs are
-            const Real gap = wall.distance(xi) - ri;
-            if (gap > skin) continue;
-            const Vec<D>& nrm = wall.normal;
-            const Overlaps d = Overlaps::along(-gap, dot(vi, nrm), dot(vai, nrm), dt);
-            if (!d.touching()) continue;
-            if (d.now > max_overlap * ri) Kokkos::atomic_fetch_max(&status(deep_bead), i + 1);
-            const Contact<D> c{d, nrm, vi - cross(ri * wi, nrm), vai - cross(ri * wai, nrm), math::sqrt(m(i))};
-            const ContactResponse<D> res = law(c, xi_old, dt);
-            fi += res.force;
-            ti += (-ri) * cross(nrm, res.force);
-            pairs.set_wall(i, w, res.xi);
-            pairs.wall_touching(i, w) = 1;
-            ++count;
-          }
-          for (int k = 0; k < D; ++k) f(i, k) = fi[k];
-          for (int c = 0; c < R; ++c) t(i, c) = ti[c];
-          if (kick) {
-            for (int k = 0; k < D; ++k) v(i, k) += 0.5 * dt * ((fi[k] + fext(i, k)) / m(i) + g[k]);
-            if (rotation)
-              for (int c = 0; c < R; ++c) om(i, c) += 0.5 * dt * ti[c] / I(i);
-          }
-          if (count > capacity) Kokkos::atomic_fetch_max(&status(crowded_bead), i + 1);
+          fi += row<D>(f, i);
+          ti += row<R>(t, i);
+          count += walls(i, fi, ti);
+          closing(i, fi, ti, count);
         });
+  }
+
+  // One thread: both sides of each pair in one pass (no gather), on Kokkos::Serial,
+  // which visits the beads in index order.
+  void contacts_in_order(Real dt, bool kick) {
+#ifdef KOKKOS_ENABLE_SERIAL
+    const auto pairs = pairs_;
+    const UpperPairs<D, Space> upper = upper_pairs(dt);
+    const PartnerSums<D, Space> partner{pairs_.partner_sums};
+    const WallContacts<D, Space> walls = wall_contacts(dt);
+    const Closing closing = closing_kick(dt, kick);
+    using P = PairContacts<D, Space>;
+    Kokkos::parallel_for(
+        "dvisph::dem::contacts_in_order", Kokkos::RangePolicy<Kokkos::Serial>(0, spheres_.n),
+        KOKKOS_LAMBDA(int i) {
+          Vec<D> fu = Vec<D>::zero();
+          Rot<D> tu = Rot<D>::zero();
+          int count = upper(i, fu, tu, partner);
+          // the partners j < i have added their sides (their turns came first)
+          Vec<D> fi = columns<D>(pairs.partner_sums, i, P::force) + fu;
+          Rot<D> ti = columns<R>(pairs.partner_sums, i, P::torque) + tu;
+          count += static_cast<int>(pairs.partner_sums(i, P::touches));
+          for (int q = 0; q < P::width; ++q) pairs.partner_sums(i, q) = 0;
+          count += walls(i, fi, ti);
+          closing(i, fi, ti, count);
+        });
+#else
+    (void)dt, (void)kick;
+    throw std::logic_error("DemSolver: in-order contacts need Kokkos::Serial");
+#endif
   }
 
   // The contacts' history from the listed pairs into the id-keyed table (before a new
@@ -553,7 +457,8 @@ class DemSolver {
             const int s = table.find(i, id(list.upper(a)));
             pairs.touching(a) = s >= 0;
             for (int k = 0; k < D; ++k) pairs.xi(a, k) = s >= 0 ? table.xi(i, s, k) : 0;
-            for (int q = 0; q < PairContacts<D, Space>::width; ++q) pairs.record(list.mirror(a), q) = 0;
+            if (!pairs.in_order)
+              for (int q = 0; q < PairContacts<D, Space>::width; ++q) pairs.record(list.mirror(a), q) = 0;
           }
           unsigned near = 0;
           for (int w = 0; w < nw; ++w) {
@@ -591,7 +496,7 @@ class DemSolver {
       // pairs take it back from the table)
       store_history();
       kick_drift(0);
-      contact_forces(dt);
+      contact_forces(dt, false);
       load_history();
       forces_ready_ = true;
     }
@@ -604,9 +509,43 @@ class DemSolver {
         load_history();
       }
     });
-    timed(2, [&] { pair_contacts(dt); });
-    timed(3, [&] { gather_contacts(dt, true); });
+    contact_forces(dt, true);
     time_ += dt;
+  }
+
+  UpperPairs<D, Space> upper_pairs(Real dt) const {
+    return {kinematics_, half_.rows(), pairs_, law_, cells_.grid().periodic, status_, deep_bead,
+            search_radius_ * search_radius_, options_.max_overlap, dt};
+  }
+  WallContacts<D, Space> wall_contacts(Real dt) const {
+    return {kinematics_, pairs_, walls_d_, spheres_.mass, law_, status_, static_cast<int>(walls_.size()),
+            deep_bead, skin_, options_.max_overlap, dt};
+  }
+  // A bead's contact force and torque stored, the closing half kick v += dt/2 a when
+  // `kick`, and the count of its contacts checked against the history's room.
+  struct Closing {
+    Kokkos::View<Real* [D], memory_space> f, v, fext;
+    Kokkos::View<Real* [R], memory_space> t, om;
+    Kokkos::View<const Real*, memory_space> m, I;
+    Kokkos::View<int*, memory_space> status;
+    Vec<D> g;
+    Real dt;
+    int capacity;
+    bool kick, rotation;
+    KOKKOS_INLINE_FUNCTION void operator()(int i, const Vec<D>& fi, const Rot<D>& ti, int count) const {
+      for (int k = 0; k < D; ++k) f(i, k) = fi[k];
+      for (int c = 0; c < R; ++c) t(i, c) = ti[c];
+      if (kick) {
+        for (int k = 0; k < D; ++k) v(i, k) += 0.5 * dt * ((fi[k] + fext(i, k)) / m(i) + g[k]);
+        if (rotation)
+          for (int c = 0; c < R; ++c) om(i, c) += 0.5 * dt * ti[c] / I(i);
+      }
+      if (count > capacity) Kokkos::atomic_fetch_max(&status(crowded_bead), i + 1);
+    }
+  };
+  Closing closing_kick(Real dt, bool kick) const {
+    return {spheres_.force, spheres_.v, spheres_.f_ext, spheres_.torque, spheres_.omega, spheres_.mass,
+            spheres_.inertia, status_, gravity_, dt, history_.capacity(), kick, options_.rotation};
   }
 
   template <class F>
@@ -617,6 +556,15 @@ class DemSolver {
     Space().fence();
     stage_seconds_[stage] += timer.seconds();
     Kokkos::Profiling::popRegion();
+  }
+
+  // One thread on the host: the beads can be visited in order (contacts_in_order).
+  static bool in_order() {
+#ifdef KOKKOS_ENABLE_SERIAL
+    return Kokkos::SpaceAccessibility<Kokkos::HostSpace, memory_space>::accessible && Space().concurrency() == 1;
+#else
+    return false;
+#endif
   }
 
   void upload_walls() {
@@ -669,6 +617,7 @@ class DemSolver {
   CellList<D, Space> cells_;
   NeighborList<D, Space> list_;
   HalfPairs<Space> half_;
+  bool in_order_;  // contacts_in_order, not pair_contacts + gather_contacts
   PairContacts<D, Space> pairs_;
   ContactHistory<D, Space> history_;
   ContactKinematics<D, Space> kinematics_;

@@ -164,7 +164,7 @@ struct LinearSpringDashpot {
   }
 
  private:
-  KOKKOS_INLINE_FUNCTION static Vec<D> tangential(const Vec<D>& a, const Vec<D>& n) {
+  KOKKOS_FORCEINLINE_FUNCTION static Vec<D> tangential(const Vec<D>& a, const Vec<D>& n) {
     return a - dot(a, n) * n;
   }
 };

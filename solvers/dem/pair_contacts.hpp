@@ -2,12 +2,13 @@
 // The state of the contacts between steps, kept where the kernels use it: at each listed
 // bead pair (i, j), i < j (src/core/half_pairs.hpp), and at each bead-wall pair. Per
 // pair: whether the two touch now, i's tangential displacement xi (0 when they do not
-// touch; j's is the opposite), and, for bead j to gather, the force on i and the moment
-// n x F (the torque on either bead is minus its radius times it, n from j to i) and a
-// copy of the touching flag, stored at the pair's lower entry of j (HalfPairs' mirror),
-// so j reads its rows in order and counts its contacts from them; and per bead, how many
-// of its upper pairs touch. The two copies save the gather a pass over the flags. The
-// pair kernel reads and rewrites xi in place, so no search by partner is made in a step;
+// touch; j's is the opposite), and, where bead j gathers its side in a second kernel
+// (solvers/dem/upper_pairs.hpp), a `record` at the pair's lower entry of j (HalfPairs'
+// mirror): the force and torque on j and a copy of the touching flag, so j reads its
+// rows in order and counts its contacts from them; and per bead, how many of its upper
+// pairs touch. The two copies save the gather a pass over the flags. A kernel that
+// visits the beads in order adds j's side to j's `partner_sums` instead. The pair
+// kernel reads and rewrites xi in place, so no search by partner is made in a step;
 // the id-keyed ContactHistory is the form kept across list builds, reorders and
 // checkpoints.
 #include "solvers/dem/rotation.hpp"
@@ -21,11 +22,12 @@ template <int D, class Space>
 struct PairContacts {
   using memory_space = typename Space::memory_space;
   static constexpr int R = rot_dim<D>;
-  // columns of `record`: the force, the moment, 1 while the pair touches (so that j counts
-  // its contacts from the rows it reads anyway)
-  static constexpr int force = 0, moment = D, touches = D + R, width = D + R + 1;
+  // columns of `record` and `partner_sums`: the force and torque on j, 1 while the pair
+  // touches (so that j counts its contacts from the rows it reads anyway)
+  static constexpr int force = 0, torque = D, touches = D + R, width = D + R + 1;
 
-  Kokkos::View<Real* [width], memory_space> record;
+  Kokkos::View<Real* [width], memory_space> record;        // per pair (gathered), or
+  Kokkos::View<Real* [width], memory_space> partner_sums;  // per bead (in-order kernel)
   Kokkos::View<Real*, memory_space> sqrt_m;  // of the pair's reduced mass, set at the list build
   Kokkos::View<Real* [D], memory_space> xi;
   Kokkos::View<char*, memory_space> touching;
@@ -38,12 +40,16 @@ struct PairContacts {
   Kokkos::View<unsigned*, memory_space> near_walls;
   static constexpr int max_walls = 32;
 
+  bool in_order = false;  // partner_sums, not record
+
   PairContacts() = default;
-  PairContacts(int beads, int walls)
-      : upper_touching("dvisph::dem::upper_touching", beads),
+  PairContacts(int beads, int walls, bool beads_in_order)
+      : partner_sums("dvisph::dem::partner_sums", beads_in_order ? beads : 0),
+        upper_touching("dvisph::dem::upper_touching", beads),
         wall_xi("dvisph::dem::wall_xi", beads, walls * D),
         wall_touching("dvisph::dem::wall_touching", beads, walls),
-        near_walls("dvisph::dem::near_walls", beads) {
+        near_walls("dvisph::dem::near_walls", beads),
+        in_order(beads_in_order) {
     if (walls > max_walls) throw std::invalid_argument("PairContacts: more than 32 walls");
   }
 
@@ -52,7 +58,7 @@ struct PairContacts {
     if (static_cast<int>(touching.extent(0)) >= entries) return;
     const int size = entries + entries / 8;
     const auto none = Kokkos::view_alloc(Kokkos::WithoutInitializing, std::string("dvisph::dem::pairs"));
-    record = decltype(record)(none, size);
+    if (!in_order) record = decltype(record)(none, size);
     xi = decltype(xi)(none, size);
     touching = decltype(touching)(none, size);
     sqrt_m = decltype(sqrt_m)(none, size);

@@ -3,11 +3,13 @@
 // list of one set within one radius is) split so that a pair kernel evaluates each pair
 // once: `upper` row i holds the partners j > i, in the list's order, and a kernel stores
 // what it finds for pair (i, j) at that entry; `lower` row i holds the partners j < i,
-// in the list's order, each with the upper entry where pair (j, i) is stored, and each
+// in ascending order, each with the upper entry where pair (j, i) is stored, and each
 // upper entry names its `mirror`, the lower entry of the same pair. A particle then adds
 // its upper pairs and gathers its lower ones in a fixed order: half the pair work, no
 // atomics, and the same sums in the same order on every backend. What the other particle
-// gathers is best written at the mirror, so that the gather reads its rows in order.
+// gathers is best written at the mirror, so that the gather reads its rows in order; the
+// ascending order makes that gather the same sum as one the partners add to in turn, a
+// kernel visiting the particles in index order.
 #include "src/core/csr_rows.hpp"
 
 #include <stdexcept>
@@ -43,12 +45,14 @@ class HalfPairs {
     Ints upper_offsets, upper, mirror, lower_offsets, lower, lower_entry;
     Kokkos::View<int, memory_space> unmatched;
     KOKKOS_INLINE_FUNCTION void operator()(int i) const {
-      int u = upper_offsets(i), l = lower_offsets(i);
+      int u = upper_offsets(i);
       for (int a = list.starts(i); a < list.ends(i); ++a) {
         const int j = list.neighbors(a);
         if (j > i) {
           upper(u++) = j;
         } else if (j < i) {
+          int l = lower_offsets(i);  // j's rank among i's lower partners
+          for (int b = list.starts(i); b < list.ends(i); ++b) l += list.neighbors(b) < j;
           // where row j's upper part holds i: row j's partners above j, in list order
           int e = upper_offsets(j), found = -1;
           for (int b = list.starts(j); b < list.ends(j) && found < 0; ++b) {
@@ -61,7 +65,7 @@ class HalfPairs {
           else
             mirror(found) = l;
           lower(l) = j;
-          lower_entry(l++) = found;
+          lower_entry(l) = found;
         }
       }
     }
