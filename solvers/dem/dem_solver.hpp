@@ -6,9 +6,10 @@
 // radius plus a list skin, built from a cell list and rebuilt only once some bead has
 // moved more than half the list skin since the last build, so no pair that can touch is
 // missing; binning and searching every step cost 3.8x LIGGGHTS' time on the bead-bed
-// settle. Each pair is evaluated once, by its lower index, and gathered by the other
-// bead in a fixed order (src/core/half_pairs.hpp), so each kernel writes only its own
-// rows (no atomics; the same bits on every backend and thread count). The tangential
+// settle. Each pair is evaluated once, by its lower index; the other bead gathers it in
+// a fixed order (src/core/half_pairs.hpp), in a second kernel where beads run in parallel
+// or at once where one thread visits them in order (no atomics either way; the same bits
+// on every backend and thread count). The tangential
 // history lives at the pairs in a step and in the id-keyed ContactHistory between lists.
 #include "solvers/dem/contact_history.hpp"
 #include "solvers/dem/contact_kinematics.hpp"
