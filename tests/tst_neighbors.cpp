@@ -104,17 +104,20 @@ void check_half_pairs(const List& list, int n, const Pairs& expected) {
     for (int a = uo(i); a < uo(i + 1); ++a) {
       wrong += !(up(a) > i) || !expected.count({i, up(a)}) || !once.insert({i, up(a)}).second;
     }
-  int mismatched = 0;
+  int mismatched = 0, unsorted = 0;
   long lower = 0;
   for (int j = 0; j < n; ++j)
     for (int b = lo(j); b < lo(j + 1); ++b, ++lower) {
       const int i = low(b), e = entry(b);
       mismatched += !(i < j && e >= uo(i) && e < uo(i + 1) && up(e) == j && mirror(e) == b);
+      // ascending, so that a gather sums as a kernel visiting the particles in order does
+      unsorted += b > lo(j) && !(low(b - 1) < i);
     }
   long distinct = 0;
   for (const auto& pr : expected) distinct += pr.first != pr.second;
   CHECK(wrong == 0);
   CHECK(mismatched == 0);
+  CHECK(unsorted == 0);
   CHECK(2 * static_cast<long>(once.size()) == distinct);
   CHECK(lower == static_cast<long>(once.size()));
   CHECK(half.pairs() == static_cast<int>(once.size()));

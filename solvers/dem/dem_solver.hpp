@@ -87,8 +87,7 @@ class DemSolver {
         box_lo_(box_lo),
         box_hi_(box_hi),
         gravity_(gravity),
-        in_order_(in_order()),
-        pairs_(spheres.n, static_cast<int>(walls_.size()), in_order_),
+        pairs_(spheres.n, static_cast<int>(walls_.size()), in_order()),
         history_(spheres.n, options.history_capacity),
         kinematics_(spheres.n),
         x_listed_("dvisph::dem::x_listed", spheres.n),
@@ -336,7 +335,7 @@ class DemSolver {
   // A bead's force is the sum over its lower partners (ascending) plus that over its
   // upper ones plus its walls': the same bits either way.
   void contact_forces(Real dt, bool kick) {
-    if (in_order_) {
+    if (pairs_.in_order) {
       timed(2, [&] { contacts_in_order(dt, kick); });
     } else {
       timed(2, [&] { pair_contacts(dt); });
@@ -618,7 +617,6 @@ class DemSolver {
   CellList<D, Space> cells_;
   NeighborList<D, Space> list_;
   HalfPairs<Space> half_;
-  bool in_order_;  // contacts_in_order, not pair_contacts + gather_contacts
   PairContacts<D, Space> pairs_;
   ContactHistory<D, Space> history_;
   ContactKinematics<D, Space> kinematics_;

@@ -40,7 +40,7 @@ struct PairContacts {
   Kokkos::View<unsigned*, memory_space> near_walls;
   static constexpr int max_walls = 32;
 
-  bool in_order = false;  // partner_sums, not record
+  bool in_order = false;  // partner_sums, not record: DemSolver::contacts_in_order
 
   PairContacts() = default;
   PairContacts(int beads, int walls, bool beads_in_order)

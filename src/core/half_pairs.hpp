@@ -51,7 +51,9 @@ class HalfPairs {
         if (j > i) {
           upper(u++) = j;
         } else if (j < i) {
-          int l = lower_offsets(i);  // j's rank among i's lower partners
+          // j's rank among i's lower partners (quadratic in the row, whose length is a
+          // bead's few neighbours: cheap next to the search for the mirror below)
+          int l = lower_offsets(i);
           for (int b = list.starts(i); b < list.ends(i); ++b) l += list.neighbors(b) < j;
           // where row j's upper part holds i: row j's partners above j, in list order
           int e = upper_offsets(j), found = -1;
