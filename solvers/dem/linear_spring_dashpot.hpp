@@ -130,11 +130,13 @@ struct LinearSpringDashpot {
     Real fn = k_n * d_spring + eta_n_unit * sqrt_m * (math::max(d.hi, 0) - math::max(d.lo, 0)) / dt;
     if (non_attractive) fn = math::max(fn, 0);
 
-    // Tangential displacement: the old one turned into the current tangent plane (same
-    // length), plus the tangential drift while in contact.
+    // Tangential displacement: the old one projected onto the current tangent plane, as
+    // LAMMPS and LIGGGHTS do, plus the tangential drift while in contact. The projection
+    // shortens it by a factor cos(theta) at most, for a normal that turns by theta in a
+    // step (theta < 0.05 rad under the skin's bound on a step's move, 1e-3 or less in a
+    // bed); a rescale to the old length, sqrt(|xi_old|^2 / |xi|^2), took 8 % of the
+    // bead-bed settle's contact pass (benchmarks/RESULTS.md, issue 17).
     Vec<D> xi = tangential(xi_old, n);
-    const Real old2 = dot(xi_old, xi_old), new2 = dot(xi, xi);
-    if (new2 > 0) xi = math::sqrt(old2 / new2) * xi;
     xi += (Overlaps::positive_fraction(d.prev, d.now) * dt) * tangential(c.v_before, n);
 
     // Tangential force while in contact, limited by the normal force while in contact.
