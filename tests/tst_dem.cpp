@@ -246,17 +246,21 @@ TEST_CASE("contact history survives reordering mid-contact", "[dem]") {
                                  vec<3>(0.02 + r, 0.01, z + std::sqrt(3.0) * r),
                                  vec<3>(0.01, 0.002, z), vec<3>(0.005, 0.005, z)};
   const Vec<3> lo = Vec<3>::zero(), hi = vec<3>(0.1, 0.02, 0.02);
-  enum class Reorder { none, with_history, naive };
+  // through_table: every step the list is rebuilt through the id-keyed table (an identity
+  // permute), where the reference carries it from list to list at its own builds
+  enum class Reorder { none, with_history, naive, through_table };
   const auto run = [&](Reorder how) {
     Spheres<3, TestSpace> s(x, r, bead_rho);
     set_row(s.v, 4, {0.3, 0.1, 0});
     DemSolver<3, TestSpace> dem(s, {PlaneWall<3>(lo, vec<3>(0, 0, 1))},
                                 LinearSpringDashpot<3>(bead_kn, 0.9, 0.2), lo, hi,
                                 vec<3>(0, 0, -g0));
-    Kokkos::View<int*, Mem> reverse("reverse", s.n);
-    const int order[] = {4, 3, 2, 1, 0};
+    Kokkos::View<int*, Mem> reverse("reverse", s.n), identity("identity", s.n);
+    const int order[] = {4, 3, 2, 1, 0}, same[] = {0, 1, 2, 3, 4};
     Kokkos::deep_copy(reverse, Kokkos::View<const int*, Kokkos::HostSpace>(order, 5));
+    Kokkos::deep_copy(identity, Kokkos::View<const int*, Kokkos::HostSpace>(same, 5));
     for (int n = 0; n < 1500; ++n) {
+      if (how == Reorder::through_table) dem.permute(identity);
       if ((n == 500 || n == 900) && how == Reorder::with_history) {
         // the springs' energy (normal and tangential) is the same in the new order
         const Real before = dem.energy().spring;
@@ -274,6 +278,7 @@ TEST_CASE("contact history survives reordering mid-contact", "[dem]") {
       dem.step(dem.time_step());
     }
     REQUIRE(dem.contacts_per_bead() > 1);
+    if (how == Reorder::none) REQUIRE(dem.list_builds() > 3);  // lists rebuilt mid-contact
     auto state = by_id(s.x, s.id);
     for (const auto& rows : {by_id(s.v, s.id), by_id(s.omega, s.id)})
       for (std::size_t i = 0; i < rows.size(); ++i)
@@ -290,8 +295,11 @@ TEST_CASE("contact history survives reordering mid-contact", "[dem]") {
   const auto reference = run(Reorder::none);
   const Real kept = difference(run(Reorder::with_history), reference);
   const Real naive = difference(run(Reorder::naive), reference);
-  WARN("reordered with history: " << kept << "; reordered without moving the history: " << naive);
+  const Real table = difference(run(Reorder::through_table), reference);
+  WARN("reordered with history: " << kept << "; reordered without moving the history: " << naive
+                                   << "; lists through the table: " << table);
   CHECK(kept < 1e-12);
+  CHECK(table < 1e-12);
   CHECK(naive > 1e-6);  // the test can see a lost history
 }
 

@@ -20,6 +20,7 @@
 #include "solvers/dem/spheres.hpp"
 #include "solvers/dem/upper_pairs.hpp"
 #include "solvers/dem/wall_contacts.hpp"
+#include "src/core/csr_rows.hpp"
 #include "src/core/extrema.hpp"
 #include "src/core/neighbor_list.hpp"
 #include "src/core/neighbor_sweep.hpp"
@@ -452,12 +453,9 @@ class DemSolver {
   void rebuild_list() {
     const auto rows = half_.rows();
     const int n = spheres_.n, listed = half_.pairs();
-    if (static_cast<int>(old_upper_.extent(0)) < listed) {
-      const auto none = Kokkos::view_alloc(Kokkos::WithoutInitializing, std::string("dvisph::dem::old_pairs"));
-      old_upper_ = decltype(old_upper_)(none, listed + listed / 8);
-      old_touching_ = decltype(old_touching_)(none, listed + listed / 8);
-      old_xi_ = decltype(old_xi_)(none, listed + listed / 8);
-    }
+    reserve_entries(old_upper_, listed, "dvisph::dem::old_upper");
+    reserve_entries(old_touching_, listed, "dvisph::dem::old_touching");
+    reserve_entries(old_xi_, listed, "dvisph::dem::old_xi");
     using range = std::pair<int, int>;
     Kokkos::deep_copy(old_offsets_, Kokkos::subview(rows.upper_offsets, range(0, n + 1)));
     Kokkos::deep_copy(Kokkos::subview(old_upper_, range(0, listed)), Kokkos::subview(rows.upper, range(0, listed)));

@@ -133,9 +133,9 @@ struct LinearSpringDashpot {
     // Tangential displacement: the old one projected onto the current tangent plane, as
     // LAMMPS and LIGGGHTS do, plus the tangential drift while in contact. The projection
     // shortens it by a factor cos(theta) at most, for a normal that turns by theta in a
-    // step (theta < 0.05 rad under the skin's bound on a step's move, 1e-3 or less in a
-    // bed); a rescale to the old length, sqrt(|xi_old|^2 / |xi|^2), took 8 % of the
-    // bead-bed settle's contact pass (benchmarks/RESULTS.md, issue 17).
+    // step (theta < 0.05 rad under the skin's bound on a step's move); a rescale to the
+    // old length, sqrt(|xi_old|^2 / |xi|^2), took 7 % of the bead-bed settle's contact
+    // pass (benchmarks/RESULTS.md, issue 17).
     Vec<D> xi = tangential(xi_old, n);
     xi += (Overlaps::positive_fraction(d.prev, d.now) * dt) * tangential(c.v_before, n);
 
