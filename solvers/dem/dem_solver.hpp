@@ -297,29 +297,35 @@ class DemSolver {
     Kokkos::parallel_reduce(
         "dvisph::dem::kick_drift", Kokkos::RangePolicy<Space>(0, spheres_.n),
         KOKKOS_LAMBDA(int i, Real& most) {
+          // two divisions a bead, not six; the new state is computed before it is
+          // stored (a store to a double may alias dt, so dt is read once into h)
+          const Real h = dt, inv_m = 1 / m(i), inv_I = 1 / I(i);
+          Vec<D> xn, vn, moved;
           Real move2 = 0;
           bool outside = false;
           for (int k = 0; k < D; ++k) {
-            const Real a = (f(i, k) + fext(i, k)) / m(i) + g[k];
-            v(i, k) += 0.5 * dt * a;
-            x(i, k) = periodic.wrap(x(i, k) + dt * v(i, k), k);
-            kin(i, K::x0 + k) = x(i, k);
-            kin(i, K::v0 + k) = v(i, k);
-            kin(i, K::va0 + k) = v(i, k) + dt * a;
-            move2 += dt * dt * v(i, k) * v(i, k);
-            outside = outside || !(x(i, k) >= lo[k] && x(i, k) <= hi[k]);
+            const Real a = (f(i, k) + fext(i, k)) * inv_m + g[k];
+            vn[k] = v(i, k) + 0.5 * h * a;
+            xn[k] = periodic.wrap(x(i, k) + h * vn[k], k);
+            kin(i, K::va0 + k) = vn[k] + h * a;
+            move2 += h * h * vn[k] * vn[k];
+            outside = outside || !(xn[k] >= lo[k] && xn[k] <= hi[k]);
+            moved[k] = xn[k] - x0(i, k);
+          }
+          for (int k = 0; k < D; ++k) {
+            x(i, k) = xn[k], v(i, k) = vn[k];
+            kin(i, K::x0 + k) = xn[k], kin(i, K::v0 + k) = vn[k];
           }
           for (int c = 0; c < R; ++c) {
-            const Real alpha = rotation ? t(i, c) / I(i) : 0;
-            om(i, c) += 0.5 * dt * alpha;
-            kin(i, K::w0 + c) = om(i, c);
-            kin(i, K::wa0 + c) = om(i, c) + dt * alpha;
+            const Real alpha = rotation ? t(i, c) * inv_I : 0;
+            const Real w = om(i, c) + 0.5 * h * alpha;
+            om(i, c) = w;
+            kin(i, K::w0 + c) = w;
+            kin(i, K::wa0 + c) = w + h * alpha;
           }
           kin(i, K::r0) = rad(i);
           if (outside) Kokkos::atomic_fetch_max(&status(outside_bead), i + 1);
           if (move2 > max_move2) Kokkos::atomic_fetch_max(&status(fast_bead), i + 1);
-          Vec<D> moved;
-          for (int k = 0; k < D; ++k) moved[k] = x(i, k) - x0(i, k);
           periodic.nearest_image(moved);
           const Real d2 = dot(moved, moved);
           if (d2 > most) most = d2;
@@ -591,9 +597,12 @@ class DemSolver {
       for (int k = 0; k < D; ++k) f(i, k) = fi[k];
       for (int c = 0; c < R; ++c) t(i, c) = ti[c];
       if (kick) {
-        for (int k = 0; k < D; ++k) v(i, k) += 0.5 * dt * ((fi[k] + fext(i, k)) / m(i) + g[k]);
-        if (rotation)
-          for (int c = 0; c < R; ++c) om(i, c) += 0.5 * dt * ti[c] / I(i);
+        const Real half = 0.5 * dt, inv_m = 1 / m(i);
+        for (int k = 0; k < D; ++k) v(i, k) += half * ((fi[k] + fext(i, k)) * inv_m + g[k]);
+        if (rotation) {
+          const Real inv_I = 1 / I(i);
+          for (int c = 0; c < R; ++c) om(i, c) += half * ti[c] * inv_I;
+        }
       }
       if (count > capacity) Kokkos::atomic_fetch_max(&status(crowded_bead), i + 1);
     }
